@@ -1,0 +1,1 @@
+//! Static Q4 finite elements (in progress).

@@ -1,0 +1,3 @@
+//! Fracture parameters and growth criteria (Guo & Nairn 2004; Guo & Nairn 001).
+pub mod criteria;
+pub mod speed;

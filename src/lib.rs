@@ -1,0 +1,36 @@
+//! # cramp — a reference Material Point Method with explicit cracks
+//!
+//! Modules follow the stages of the algorithm as the papers name them
+//! (Nairn 2003, "MPM calculations with explicit cracks", appendix A):
+//!
+//! * [`dim`] — the only place that knows the spatial dimension.
+//! * [`exact`] — correctly rounded, order-independent summation (every grid sum uses it).
+//! * [`grid`] — the background grid and its per-velocity-field nodal arrays.
+//! * [`shape`] — linear and uGIMP shape functions.
+//! * [`particles`] — material points, struct-of-arrays.
+//! * [`material`] — constitutive laws.
+//! * [`crack`] — crack geometry, line crossing, velocity fields, surfaces.
+//! * [`step`] — tasks 0–8 and the four update schemes (USL, MUSL, USF, USAVG).
+//! * [`check`] — invariant checks of the checked mode.
+//! * [`simulation`] — the state of a run and its time loop.
+//! * [`fracture`] — J-integral, K, growth criteria.
+//! * [`fea`] — the static Q4 finite-element solver used for comparison.
+//! * [`scene`] — TOML scene input and validation.
+//! * [`output`] — history CSV, summary JSON, VTK snapshots.
+//! * [`report`] — plots and the report index.
+
+pub mod check;
+pub mod crack;
+pub mod dim;
+pub mod exact;
+pub mod fea;
+pub mod fracture;
+pub mod grid;
+pub mod material;
+pub mod output;
+pub mod particles;
+pub mod report;
+pub mod scene;
+pub mod shape;
+pub mod simulation;
+pub mod step;

@@ -1,0 +1,2 @@
+//! Outputs: VTK snapshots, history CSV, summary JSON.
+pub mod vtk;

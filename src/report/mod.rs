@@ -1,0 +1,2 @@
+//! Reports: plots and the index.
+pub mod plot;
