@@ -1,1 +1,130 @@
-//! (in progress)
+//! The background grid: a regular rectangular grid of nodes, and the nodal arrays of
+//! each velocity field (Nairn 2003 §2.1: field 0 for particles on the node's side of
+//! every crack, 1 for particles above a crack relative to the node, 2 for below).
+//!
+//! Node `i` sits at `origin + (ix·hx, iy·hy)` with `i = ix + iy·(nx+1)`. Coordinates are
+//! computed the same way everywhere so that a grid symmetric about a grid line gives
+//! mirrored node coordinates to the bit.
+
+use crate::dim::Vector;
+
+/// Geometry of a regular background grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    /// Lower-left corner.
+    pub origin: Vector,
+    /// Cell size (hx, hy).
+    pub h: Vector,
+    /// Number of cells in x and y.
+    pub nx: usize,
+    pub ny: usize,
+}
+
+impl Grid {
+    pub fn num_nodes(&self) -> usize {
+        (self.nx + 1) * (self.ny + 1)
+    }
+
+    #[inline]
+    pub fn node_index(&self, ix: usize, iy: usize) -> usize {
+        ix + iy * (self.nx + 1)
+    }
+
+    #[inline]
+    pub fn node_ij(&self, i: usize) -> (usize, usize) {
+        (i % (self.nx + 1), i / (self.nx + 1))
+    }
+
+    /// Position of node i.
+    #[inline]
+    pub fn node_pos(&self, i: usize) -> Vector {
+        let (ix, iy) = self.node_ij(i);
+        Vector::new(self.origin.x + ix as f64 * self.h.x, self.origin.y + iy as f64 * self.h.y)
+    }
+
+    /// Upper-right corner.
+    pub fn max_corner(&self) -> Vector {
+        Vector::new(self.origin.x + self.nx as f64 * self.h.x, self.origin.y + self.ny as f64 * self.h.y)
+    }
+
+    /// Area of one cell (the undeformed nodal volume of an interior node, eq. 10).
+    pub fn cell_area(&self) -> f64 {
+        self.h.x * self.h.y
+    }
+
+    /// Smallest cell dimension, for the CFL time step.
+    pub fn min_h(&self) -> f64 {
+        self.h.x.min(self.h.y)
+    }
+}
+
+/// Nodal arrays of one velocity field, over all nodes of the grid (flat, indexed by node).
+#[derive(Clone, Debug, Default)]
+pub struct FieldArrays {
+    /// Lumped mass m_{i,j} (eq. 26).
+    pub mass: Vec<f64>,
+    /// Momentum p_{i,j} (eqs. 26, 29, 31).
+    pub mom: Vec<Vector>,
+    /// Internal force (eq. 28).
+    pub fint: Vec<Vector>,
+    /// External force, particle loads and body forces (eq. 28).
+    pub fext: Vec<Vector>,
+    /// Total force including damping (eq. 28), possibly modified by boundary conditions
+    /// and contact.
+    pub ftot: Vec<Vector>,
+    /// Velocity p/m, computed where needed for the particle updates.
+    pub vel: Vec<Vector>,
+    /// Acceleration ftot/m.
+    pub acc: Vec<Vector>,
+}
+
+impl FieldArrays {
+    pub fn new(n: usize) -> Self {
+        let z = Vector::zeros();
+        FieldArrays {
+            mass: vec![0.0; n],
+            mom: vec![z; n],
+            fint: vec![z; n],
+            fext: vec![z; n],
+            ftot: vec![z; n],
+            vel: vec![z; n],
+            acc: vec![z; n],
+        }
+    }
+}
+
+/// Maximum number of velocity fields per node: 0, 1 (above), 2 (below).
+pub const MAX_FIELDS: usize = 3;
+
+/// All nodal data of one step.
+#[derive(Clone, Debug)]
+pub struct Nodes {
+    /// One entry per velocity field in use by the scene: 1 without cracks, 3 with.
+    pub fields: Vec<FieldArrays>,
+    /// Bit set per node of which fields are present (ϕ_{i,j} of eq. 32).
+    pub present: Vec<u8>,
+    /// Total nodal volume (eq. 27), only filled when the scene has cracks (contact uses it).
+    pub volume: Vec<f64>,
+    /// Average crack normal per node (from above to below), only with cracks.
+    pub normal: Vec<Vector>,
+    /// Nodes touched by at least one particle this step, ascending.
+    pub active: Vec<u32>,
+}
+
+impl Nodes {
+    pub fn new(num_nodes: usize, with_cracks: bool) -> Self {
+        let nf = if with_cracks { MAX_FIELDS } else { 1 };
+        Nodes {
+            fields: (0..nf).map(|_| FieldArrays::new(num_nodes)).collect(),
+            present: vec![0; num_nodes],
+            volume: if with_cracks { vec![0.0; num_nodes] } else { Vec::new() },
+            normal: if with_cracks { vec![Vector::zeros(); num_nodes] } else { Vec::new() },
+            active: Vec::with_capacity(num_nodes),
+        }
+    }
+
+    #[inline]
+    pub fn has_field(&self, node: usize, field: usize) -> bool {
+        self.present[node] & (1u8 << field) != 0
+    }
+}

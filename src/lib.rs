@@ -20,6 +20,7 @@
 //! * [`report`] — plots and the report index.
 
 pub mod check;
+pub mod contact;
 pub mod crack;
 pub mod dim;
 pub mod exact;

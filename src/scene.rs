@@ -1,1 +1,582 @@
-//! (in progress)
+//! Scene files (TOML): grid, materials, bodies, boundary conditions, loads, cracks,
+//! solver options and outputs. Units are the user's, as long as they are consistent;
+//! the examples use mm, g, ms (so forces in N and stresses in MPa), like the papers.
+//!
+//! Parsing rejects unknown fields and wrong types (the `toml` error names the key and
+//! line); [`Scene::validate`] rejects physically meaningless values with the field's
+//! path; [`Scene::build`] turns a valid scene into a [`Simulation`]. See
+//! `docs/scene.md` for every field.
+
+use crate::crack::{ContactLaw, Crack};
+use crate::dim::Vector;
+use crate::grid::Grid;
+use crate::material::{LinearElastic, PlaneState};
+use crate::particles::{Particles, NO_LOAD};
+use crate::shape::ShapeKind;
+use crate::simulation::{Load, NodeBcs, Options, Scheme, Simulation};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum SceneError {
+    #[error("cannot read scene file {path}: {source}")]
+    Io { path: String, source: std::io::Error },
+    #[error("scene file {path} is not a valid scene:\n{message}")]
+    Parse { path: String, message: String },
+    #[error("scene field `{field}`: {message}")]
+    Invalid { field: String, message: String },
+}
+
+fn invalid(field: impl Into<String>, message: impl Into<String>) -> SceneError {
+    SceneError::Invalid { field: field.into(), message: message.into() }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Free text shown in summaries.
+    #[serde(default)]
+    pub title: String,
+    pub grid: GridSpec,
+    pub solver: SolverSpec,
+    #[serde(default)]
+    pub output: OutputSpec,
+    pub materials: Vec<MaterialSpec>,
+    pub bodies: Vec<BodySpec>,
+    #[serde(default)]
+    pub boundary: Vec<BoundarySpec>,
+    #[serde(default)]
+    pub loads: Vec<LoadSpec>,
+    #[serde(default)]
+    pub cracks: Vec<CrackSpec>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GridSpec {
+    /// Lower-left corner.
+    pub origin: [f64; 2],
+    /// Extent in x and y (must be a whole number of cells).
+    pub size: [f64; 2],
+    /// Cell size in x and y.
+    pub cell: [f64; 2],
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// usl, musl, usf or usavg (default usavg).
+    #[serde(default = "default_scheme")]
+    pub scheme: Scheme,
+    /// linear or ugimp (default ugimp).
+    #[serde(default = "default_shape")]
+    pub shape: ShapeKind,
+    /// Time step as a fraction of cell size / dilatational wave speed (default 0.5).
+    pub cfl: Option<f64>,
+    /// Explicit time step (overrides cfl).
+    pub dt: Option<f64>,
+    /// End time (required).
+    pub end_time: f64,
+    /// Damping coefficient κ of eq. 28, 1/time (default 0).
+    #[serde(default)]
+    pub damping: f64,
+    /// Particles per cell per direction (default 2).
+    #[serde(default = "default_ppc")]
+    pub particles_per_cell: usize,
+    /// Invariant checks every step (default true).
+    #[serde(default = "default_true")]
+    pub checked: bool,
+}
+
+fn default_scheme() -> Scheme {
+    Scheme::Usavg
+}
+fn default_shape() -> ShapeKind {
+    ShapeKind::Ugimp
+}
+fn default_ppc() -> usize {
+    2
+}
+fn default_true() -> bool {
+    true
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Time between rows of history.csv (default: end_time / 100).
+    pub history_interval: Option<f64>,
+    /// Time between VTK particle snapshots (default: none).
+    pub archive_interval: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub name: String,
+    /// Young's modulus.
+    #[serde(rename = "E")]
+    pub e: f64,
+    /// Poisson's ratio.
+    pub nu: f64,
+    /// Density.
+    pub rho: f64,
+    /// plane_stress or plane_strain.
+    pub state: PlaneState,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum ShapeSpec {
+    Rectangle { min: [f64; 2], max: [f64; 2] },
+    Disk { center: [f64; 2], radius: f64 },
+    Polygon { points: Vec<[f64; 2]> },
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SineVelocity {
+    /// Velocity amplitude vector.
+    pub amplitude: [f64; 2],
+    /// Wave vector k: v = amplitude · sin(k · (x − origin)).
+    pub k: [f64; 2],
+    #[serde(default)]
+    pub origin: [f64; 2],
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Name of a material in `materials`.
+    pub material: String,
+    pub shape: ShapeSpec,
+    /// Thickness (2D), default 1.
+    #[serde(default = "default_one")]
+    pub thickness: f64,
+    /// Uniform initial velocity.
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    /// Optional single-mode initial velocity added to `velocity`.
+    pub velocity_sine: Option<SineVelocity>,
+    /// Body force per unit mass (acceleration), e.g. gravity.
+    #[serde(default)]
+    pub body_force: [f64; 2],
+}
+
+fn default_one() -> f64 {
+    1.0
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum Selection {
+    /// Axis-aligned box, inclusive.
+    Region { min: [f64; 2], max: [f64; 2] },
+    /// Points within a quarter cell of the segment.
+    Line { from: [f64; 2], to: [f64; 2] },
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySpec {
+    /// Which grid nodes.
+    pub nodes: Selection,
+    /// Fixed x velocity, if given.
+    pub vx: Option<f64>,
+    /// Fixed y velocity, if given.
+    pub vy: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// Which particles.
+    pub particles: Selection,
+    /// Total force, shared equally by the selected particles.
+    pub force: [f64; 2],
+    /// Ramp time: the force grows linearly from 0 over this time (default 0: a step load).
+    #[serde(default)]
+    pub ramp: f64,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum ContactSpec {
+    None,
+    Stick,
+    Frictionless,
+    Friction { mu: f64 },
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CrackSpec {
+    /// Crack particles in order (at least two).
+    pub points: Vec<[f64; 2]>,
+    /// Contact law (default frictionless).
+    #[serde(default = "default_contact")]
+    pub contact: ContactSpec,
+    /// Relative volume below which faces are separated (default 0.9).
+    #[serde(default = "default_vsep")]
+    pub v_sep: f64,
+    /// Relative volume above which faces are in contact (default 1.1).
+    #[serde(default = "default_vcontact")]
+    pub v_contact: f64,
+}
+
+fn default_contact() -> ContactSpec {
+    ContactSpec::Frictionless
+}
+fn default_vsep() -> f64 {
+    0.9
+}
+fn default_vcontact() -> f64 {
+    1.1
+}
+
+fn v(a: [f64; 2]) -> Vector {
+    Vector::new(a[0], a[1])
+}
+
+impl ShapeSpec {
+    pub fn contains(&self, x: &Vector) -> bool {
+        match self {
+            ShapeSpec::Rectangle { min, max } => x.x >= min[0] && x.x <= max[0] && x.y >= min[1] && x.y <= max[1],
+            ShapeSpec::Disk { center, radius } => (x - v(*center)).norm_squared() <= radius * radius,
+            ShapeSpec::Polygon { points } => {
+                // Even–odd ray casting.
+                let mut inside = false;
+                let n = points.len();
+                for i in 0..n {
+                    let a = v(points[i]);
+                    let b = v(points[(i + 1) % n]);
+                    if (a.y > x.y) != (b.y > x.y) {
+                        let xc = a.x + (x.y - a.y) * (b.x - a.x) / (b.y - a.y);
+                        if x.x < xc {
+                            inside = !inside;
+                        }
+                    }
+                }
+                inside
+            }
+        }
+    }
+}
+
+impl Selection {
+    /// Matching tolerance for a grid of cell size h: round-off for regions, a quarter
+    /// cell for lines (so a line drawn along a row of nodes or particles selects it).
+    fn tolerance(&self, h: f64) -> f64 {
+        match self {
+            Selection::Region { .. } => 1e-9 * h,
+            Selection::Line { .. } => 0.25 * h,
+        }
+    }
+
+    fn contains(&self, x: &Vector, tol: f64) -> bool {
+        match self {
+            Selection::Region { min, max } => {
+                x.x >= min[0] - tol && x.x <= max[0] + tol && x.y >= min[1] - tol && x.y <= max[1] + tol
+            }
+            Selection::Line { from, to } => {
+                let a = v(*from);
+                let b = v(*to);
+                let d = b - a;
+                let l2 = d.norm_squared();
+                let t = if l2 > 0.0 { ((x - a).dot(&d) / l2).clamp(0.0, 1.0) } else { 0.0 };
+                (x - (a + d * t)).norm() <= tol
+            }
+        }
+    }
+}
+
+fn finite(field: &str, x: f64) -> Result<(), SceneError> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(invalid(field, format!("must be a finite number, got {x}")))
+    }
+}
+
+fn positive(field: &str, x: f64) -> Result<(), SceneError> {
+    finite(field, x)?;
+    if x > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(field, format!("must be positive, got {x}")))
+    }
+}
+
+impl Scene {
+    /// Read and validate a scene file.
+    pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io { path: path.display().to_string(), source: e })?;
+        Scene::from_toml(&text, &path.display().to_string())
+    }
+
+    /// Parse and validate TOML text; `origin` names the source in errors.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let scene: Scene = toml::from_str(text).map_err(|e| SceneError::Parse { path: origin.to_string(), message: e.to_string() })?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Check every value for physical sense; the error names the field.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let g = &self.grid;
+        for c in 0..2 {
+            finite(&format!("grid.origin[{c}]"), g.origin[c])?;
+            positive(&format!("grid.size[{c}]"), g.size[c])?;
+            positive(&format!("grid.cell[{c}]"), g.cell[c])?;
+            let n = g.size[c] / g.cell[c];
+            if (n - n.round()).abs() > 1e-9 * n.max(1.0) || n.round() < 1.0 {
+                return Err(invalid(format!("grid.size[{c}]"), format!("{} is not a whole number of cells of size {} (got {n} cells)", g.size[c], g.cell[c])));
+            }
+            if n.round() > 1e7 {
+                return Err(invalid(format!("grid.size[{c}]"), format!("{n} cells is too many")));
+            }
+        }
+        let s = &self.solver;
+        positive("solver.end_time", s.end_time)?;
+        if let Some(cfl) = s.cfl {
+            positive("solver.cfl", cfl)?;
+            if cfl > 1.0 {
+                return Err(invalid("solver.cfl", format!("must be at most 1 (a fraction of the CFL limit), got {cfl}")));
+            }
+        }
+        if let Some(dt) = s.dt {
+            positive("solver.dt", dt)?;
+        }
+        finite("solver.damping", s.damping)?;
+        if s.damping < 0.0 {
+            return Err(invalid("solver.damping", format!("must be zero or positive, got {}", s.damping)));
+        }
+        if s.particles_per_cell == 0 || s.particles_per_cell > 8 {
+            return Err(invalid("solver.particles_per_cell", format!("must be 1 to 8, got {}", s.particles_per_cell)));
+        }
+        if let Some(h) = self.output.history_interval {
+            positive("output.history_interval", h)?;
+        }
+        if let Some(a) = self.output.archive_interval {
+            positive("output.archive_interval", a)?;
+        }
+        if self.materials.is_empty() {
+            return Err(invalid("materials", "at least one material is required"));
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            let f = |n: &str| format!("materials[{i}].{n}");
+            positive(&f("E"), m.e)?;
+            positive(&f("rho"), m.rho)?;
+            finite(&f("nu"), m.nu)?;
+            if !(m.nu > -1.0 && m.nu < 0.5) {
+                return Err(invalid(f("nu"), format!("Poisson's ratio must be in (−1, 0.5), got {}", m.nu)));
+            }
+            if self.materials[..i].iter().any(|o| o.name == m.name) {
+                return Err(invalid(f("name"), format!("duplicate material name '{}'", m.name)));
+            }
+        }
+        if self.bodies.is_empty() {
+            return Err(invalid("bodies", "at least one body is required"));
+        }
+        for (i, b) in self.bodies.iter().enumerate() {
+            let f = |n: &str| format!("bodies[{i}].{n}");
+            if !self.materials.iter().any(|m| m.name == b.material) {
+                return Err(invalid(f("material"), format!("no material named '{}'", b.material)));
+            }
+            positive(&f("thickness"), b.thickness)?;
+            match &b.shape {
+                ShapeSpec::Rectangle { min, max } => {
+                    if !(max[0] > min[0] && max[1] > min[1]) {
+                        return Err(invalid(f("shape.rectangle"), format!("max {max:?} must exceed min {min:?} in both directions")));
+                    }
+                }
+                ShapeSpec::Disk { radius, .. } => positive(&f("shape.disk.radius"), *radius)?,
+                ShapeSpec::Polygon { points } => {
+                    if points.len() < 3 {
+                        return Err(invalid(f("shape.polygon.points"), format!("a polygon needs at least 3 points, got {}", points.len())));
+                    }
+                }
+            }
+        }
+        for (i, b) in self.boundary.iter().enumerate() {
+            if b.vx.is_none() && b.vy.is_none() {
+                return Err(invalid(format!("boundary[{i}]"), "fixes nothing: give vx and/or vy"));
+            }
+        }
+        for (i, l) in self.loads.iter().enumerate() {
+            finite(&format!("loads[{i}].force[0]"), l.force[0])?;
+            finite(&format!("loads[{i}].force[1]"), l.force[1])?;
+            if !(l.ramp >= 0.0) {
+                return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive, got {}", l.ramp)));
+            }
+        }
+        for (i, c) in self.cracks.iter().enumerate() {
+            if c.points.len() < 2 {
+                return Err(invalid(format!("cracks[{i}].points"), format!("a crack needs at least 2 points, got {}", c.points.len())));
+            }
+            if !(c.v_sep > 0.0 && c.v_sep < c.v_contact) {
+                return Err(invalid(format!("cracks[{i}].v_sep"), format!("need 0 < v_sep < v_contact, got v_sep = {}, v_contact = {}", c.v_sep, c.v_contact)));
+            }
+            if let ContactSpec::Friction { mu } = c.contact {
+                if !(mu >= 0.0 && mu.is_finite()) {
+                    return Err(invalid(format!("cracks[{i}].contact.friction.mu"), format!("must be zero or positive, got {mu}")));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    pub fn grid(&self) -> Grid {
+        let g = &self.grid;
+        Grid {
+            origin: v(g.origin),
+            h: v(g.cell),
+            nx: (g.size[0] / g.cell[0]).round() as usize,
+            ny: (g.size[1] / g.cell[1]).round() as usize,
+        }
+    }
+
+    pub fn materials(&self) -> Vec<LinearElastic> {
+        self.materials.iter().map(|m| LinearElastic { e: m.e, nu: m.nu, rho: m.rho, state: m.state }).collect()
+    }
+
+    /// The time step: explicit `dt`, or `cfl` (default 0.5) × cell / c_d.
+    pub fn time_step(&self) -> f64 {
+        let mats = self.materials();
+        match self.solver.dt {
+            Some(dt) => dt,
+            None => self.solver.cfl.unwrap_or(0.5) * Simulation::cfl_dt(&self.grid(), &mats),
+        }
+    }
+
+    /// Fill the bodies with particles, resolve loads and boundary conditions onto
+    /// particles and nodes, and assemble the simulation.
+    pub fn build(&self) -> Result<Simulation, SceneError> {
+        let grid = self.grid();
+        let mats = self.materials();
+        let n = self.solver.particles_per_cell;
+        let mut particles = Particles::default();
+        let sub = Vector::new(grid.h.x / n as f64, grid.h.y / n as f64);
+        let lp = sub * 0.5;
+        // Cells in order, particles within a cell in order; a point claimed by an earlier
+        // body is not filled again (first body wins).
+        let mut owner: Vec<Vec<Vector>> = vec![Vec::new(); self.bodies.len()];
+        for iy in 0..grid.ny {
+            for ix in 0..grid.nx {
+                for b in 0..n {
+                    for a in 0..n {
+                        let x = Vector::new(
+                            grid.origin.x + grid.h.x * (ix as f64 + (a as f64 + 0.5) / n as f64),
+                            grid.origin.y + grid.h.y * (iy as f64 + (b as f64 + 0.5) / n as f64),
+                        );
+                        if let Some(k) = self.bodies.iter().position(|body| body.shape.contains(&x)) {
+                            owner[k].push(x);
+                        }
+                    }
+                }
+            }
+        }
+        for (k, body) in self.bodies.iter().enumerate() {
+            if owner[k].is_empty() {
+                return Err(invalid(format!("bodies[{k}].shape"), "contains no particle positions inside the grid (empty body)"));
+            }
+            let mi = self.materials.iter().position(|m| m.name == body.material).unwrap_or(0);
+            let rho = mats[mi].rho;
+            let area = sub.x * sub.y;
+            let vol0 = area * body.thickness;
+            for x in &owner[k] {
+                let mut vel = v(body.velocity);
+                if let Some(sv) = &body.velocity_sine {
+                    let phase = v(sv.k).dot(&(x - v(sv.origin)));
+                    vel += v(sv.amplitude) * phase.sin();
+                }
+                particles.push(*x, vel, rho * vol0, vol0, lp, mi as u16, k as u16);
+            }
+        }
+        // Particles must lie inside the grid (with their uGIMP domain).
+        let lo = grid.origin;
+        let hi = grid.max_corner();
+        for (k, body) in self.bodies.iter().enumerate() {
+            let outside = match &body.shape {
+                ShapeSpec::Rectangle { min, max } => min[0] < lo.x || min[1] < lo.y || max[0] > hi.x || max[1] > hi.y,
+                ShapeSpec::Disk { center, radius } => {
+                    center[0] - radius < lo.x || center[1] - radius < lo.y || center[0] + radius > hi.x || center[1] + radius > hi.y
+                }
+                ShapeSpec::Polygon { points } => points.iter().any(|p| p[0] < lo.x || p[1] < lo.y || p[0] > hi.x || p[1] > hi.y),
+            };
+            if outside {
+                return Err(invalid(format!("bodies[{k}].shape"), format!("extends outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
+            }
+        }
+        // Loads: the total force is shared by the selected particles.
+        let mut loads = Vec::new();
+        for (li, l) in self.loads.iter().enumerate() {
+            let tol = l.particles.tolerance(grid.min_h());
+            let sel: Vec<usize> = (0..particles.len()).filter(|&p| l.particles.contains(&particles.x[p], tol)).collect();
+            if sel.is_empty() {
+                return Err(invalid(format!("loads[{li}].particles"), "selects no particles"));
+            }
+            for &p in &sel {
+                if particles.load[p] != NO_LOAD {
+                    return Err(invalid(format!("loads[{li}].particles"), format!("selects particle at {:?} already loaded by loads[{}]", particles.x[p], particles.load[p])));
+                }
+                particles.load[p] = li as u16;
+            }
+            loads.push(Load { force_per_particle: v(l.force) / sel.len() as f64, ramp: l.ramp });
+        }
+        // Boundary conditions on nodes.
+        let mut bcs = NodeBcs::new(grid.num_nodes());
+        for (bi, b) in self.boundary.iter().enumerate() {
+            let ntol = b.nodes.tolerance(grid.min_h());
+            let mut any = false;
+            for i in 0..grid.num_nodes() {
+                if b.nodes.contains(&grid.node_pos(i), ntol) {
+                    any = true;
+                    if let Some(vx) = b.vx {
+                        bcs.fix(i, 0, vx);
+                    }
+                    if let Some(vy) = b.vy {
+                        bcs.fix(i, 1, vy);
+                    }
+                }
+            }
+            if !any {
+                return Err(invalid(format!("boundary[{bi}].nodes"), "selects no grid nodes"));
+            }
+        }
+        bcs.finish();
+        let cracks = self
+            .cracks
+            .iter()
+            .map(|c| Crack {
+                points: c.points.iter().map(|p| v(*p)).collect(),
+                contact: match c.contact {
+                    ContactSpec::None => ContactLaw::None,
+                    ContactSpec::Stick => ContactLaw::Stick,
+                    ContactSpec::Frictionless => ContactLaw::Friction(0.0),
+                    ContactSpec::Friction { mu } => ContactLaw::Friction(mu),
+                },
+                v_sep: c.v_sep,
+                v_contact: c.v_contact,
+            })
+            .collect();
+        let options = Options {
+            scheme: self.solver.scheme,
+            shape: self.solver.shape,
+            dt: self.time_step(),
+            damping: self.solver.damping,
+            checked: self.solver.checked,
+        };
+        let body_force = self.bodies.iter().map(|b| v(b.body_force)).collect();
+        Ok(Simulation::new(grid, particles, mats, body_force, loads, bcs, cracks, options))
+    }
+
+    /// History interval (default end_time / 100).
+    pub fn history_interval(&self) -> f64 {
+        self.output.history_interval.unwrap_or(self.solver.end_time / 100.0)
+    }
+}
+
+/// The embedded default scene (`cargo run --release` with no arguments).
+pub const DEFAULT_SCENE: &str = include_str!("../verification/demo.toml");

@@ -1,2 +1,221 @@
-//! Outputs: VTK snapshots, history CSV, summary JSON.
+//! Outputs of a run: `history.csv` (energies at the history interval), `summary.json`
+//! (scene echo, step count, time step, wall time, throughput, final energies) and VTK
+//! particle snapshots at the archive interval. Physics stays out of here: this module
+//! only reads a [`Simulation`].
+
 pub mod vtk;
+
+use crate::dim::Vector;
+use crate::scene::Scene;
+use crate::simulation::{Energies, Simulation};
+use anyhow::Context;
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// One row of history.csv.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HistoryRow {
+    pub time: f64,
+    pub kinetic: f64,
+    pub strain: f64,
+    pub external_work: f64,
+    pub damping: f64,
+    /// kinetic + strain + damping − external_work.
+    pub total: f64,
+    /// Total particle momentum.
+    pub momentum_x: f64,
+    pub momentum_y: f64,
+}
+
+impl HistoryRow {
+    pub fn of(sim: &Simulation) -> Self {
+        let e: Energies = sim.energies();
+        let p = sim.total_momentum();
+        HistoryRow {
+            time: sim.time,
+            kinetic: e.kinetic,
+            strain: e.strain,
+            external_work: e.external_work,
+            damping: e.damping,
+            total: e.total(),
+            momentum_x: p.x,
+            momentum_y: p.y,
+        }
+    }
+
+    pub const HEADER: &'static str = "time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y";
+
+    pub fn csv(&self) -> String {
+        // `{:e}` of f64 round-trips exactly.
+        format!(
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+            self.time, self.kinetic, self.strain, self.external_work, self.damping, self.total, self.momentum_x, self.momentum_y
+        )
+    }
+}
+
+/// summary.json.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Summary {
+    pub scene: Scene,
+    pub steps: u64,
+    pub dt: f64,
+    pub end_time: f64,
+    pub particles: usize,
+    pub nodes: usize,
+    pub wall_time_s: f64,
+    pub particle_steps_per_second: f64,
+    pub checked: bool,
+    pub final_energies: HistoryRow,
+}
+
+/// How to run a scene.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Write outputs here (None: in memory only).
+    pub out_dir: Option<PathBuf>,
+    /// Show a progress bar (only drawn on a terminal).
+    pub progress: bool,
+    /// Override the scene's `solver.checked`.
+    pub checked: Option<bool>,
+}
+
+/// What a run returns in memory.
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    pub history: Vec<HistoryRow>,
+    pub summary: Summary,
+    pub sim: Simulation,
+}
+
+/// Build and run a scene to its end time, recording history and writing outputs.
+pub fn run_scene(scene: &Scene, opts: &RunOptions) -> anyhow::Result<RunResult> {
+    let mut sim = scene.build()?;
+    if let Some(c) = opts.checked {
+        sim.options.checked = c;
+    }
+    run_simulation(scene, sim, opts)
+}
+
+/// Run an already built simulation (tests use this to alter a scene's state first).
+pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> anyhow::Result<RunResult> {
+    if let Some(dir) = &opts.out_dir {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create output directory {}", dir.display()))?;
+    }
+    let end = scene.solver.end_time;
+    let dt = sim.options.dt;
+    let hist_dt = scene.history_interval();
+    let arch_dt = scene.output.archive_interval;
+    let total_steps = ((end / dt) - 0.5).ceil().max(0.0) as u64;
+    let bar = if opts.progress {
+        let b = indicatif::ProgressBar::new(total_steps);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {elapsed_precise} (eta {eta})")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+
+    let mut history = vec![HistoryRow::of(&sim)];
+    let mut next_hist = hist_dt;
+    let mut archive_index = 0usize;
+    let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
+    if let (Some(dir), Some(_)) = (&opts.out_dir, arch_dt) {
+        write_snapshot(&sim, &dir.join(format!("particles_{archive_index:05}.vtk")))?;
+        archive_index += 1;
+    }
+    let start = Instant::now();
+    let mut io_error: Option<anyhow::Error> = None;
+    let half = 0.5 * dt;
+    sim.run_until(end, |s| {
+        bar.inc(1);
+        if s.time + half >= next_hist {
+            history.push(HistoryRow::of(s));
+            while next_hist <= s.time + half {
+                next_hist += hist_dt;
+            }
+        }
+        if s.time + half >= next_arch {
+            if let Some(dir) = &opts.out_dir {
+                if let Err(e) = write_snapshot(s, &dir.join(format!("particles_{archive_index:05}.vtk"))) {
+                    io_error.get_or_insert(e);
+                }
+            }
+            archive_index += 1;
+            while next_arch <= s.time + half {
+                next_arch += arch_dt.unwrap_or(f64::INFINITY);
+            }
+        }
+    })
+    .map_err(|e| anyhow::anyhow!(e))?;
+    let wall = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    if let Some(e) = io_error {
+        return Err(e);
+    }
+    if history.last().map(|h| h.time) != Some(sim.time) {
+        history.push(HistoryRow::of(&sim));
+    }
+    let summary = Summary {
+        scene: scene.clone(),
+        steps: sim.step_count,
+        dt,
+        end_time: sim.time,
+        particles: sim.particles.len(),
+        nodes: sim.grid.num_nodes(),
+        wall_time_s: wall,
+        particle_steps_per_second: sim.particles.len() as f64 * sim.step_count as f64 / wall.max(1e-12),
+        checked: sim.options.checked,
+        final_energies: *history.last().expect("history has the initial row"),
+    };
+    if let Some(dir) = &opts.out_dir {
+        write_history(&dir.join("history.csv"), &history)?;
+        let json = serde_json::to_string_pretty(&summary)?;
+        std::fs::write(dir.join("summary.json"), json).with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
+    }
+    Ok(RunResult { history, summary, sim })
+}
+
+/// Write history.csv.
+pub fn write_history(path: &Path, rows: &[HistoryRow]) -> anyhow::Result<()> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?);
+    writeln!(f, "{}", HistoryRow::HEADER)?;
+    for r in rows {
+        writeln!(f, "{}", r.csv())?;
+    }
+    Ok(())
+}
+
+/// Particle snapshot in legacy VTK, particles sorted by id so the file does not depend
+/// on the order particles are stored in.
+pub fn write_snapshot(sim: &Simulation, path: &Path) -> anyhow::Result<()> {
+    use vtk::PointData;
+    let p = &sim.particles;
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_by_key(|&i| p.id[i]);
+    let pos: Vec<Vector> = order.iter().map(|&i| p.x[i]).collect();
+    let disp: Vec<Vector> = order.iter().map(|&i| p.x[i] - p.x0[i]).collect();
+    let vel: Vec<Vector> = order.iter().map(|&i| p.v[i]).collect();
+    let stress: Vec<_> = order.iter().map(|&i| p.stress[i]).collect();
+    let strain: Vec<_> = order.iter().map(|&i| p.strain[i]).collect();
+    let mat: Vec<f64> = order.iter().map(|&i| p.material[i] as f64).collect();
+    let id: Vec<f64> = order.iter().map(|&i| p.id[i] as f64).collect();
+    vtk::write_points(
+        path,
+        &format!("cramp particles t={:e}", sim.time),
+        &pos,
+        &[
+            ("id", PointData::Scalar(&id)),
+            ("displacement", PointData::Vector(&disp)),
+            ("velocity", PointData::Vector(&vel)),
+            ("stress", PointData::Tensor(&stress)),
+            ("strain", PointData::Tensor(&strain)),
+            ("material", PointData::Scalar(&mat)),
+        ],
+    )
+    .with_context(|| format!("cannot write snapshot {}", path.display()))
+}
