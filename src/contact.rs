@@ -1,12 +1,141 @@
 //! Crack-face contact at nodes with two velocity fields (Nairn 2003 §2.2, eqs. 8–19).
-//! (Being built: the crack issue.)
+//!
+//! Detection: the relative nodal volume V_rel = V_i / V_undeformed (eqs. 8–10). Below
+//! `v_sep` the faces are separated; above `v_contact` they are in contact; in between,
+//! they are in contact when approaching, (v_a − v_b)·n̂ > 0 with n̂ the crack normal from
+//! above to below (eqs. 11–12).
+//!
+//! Response, as a momentum change Δp applied to the "above" field and −Δp to the
+//! "below" one, so total momentum is conserved (to round-off):
+//! * stick (eq. 13): Δp = (m_b p_a... ) — both fields move with the centre of mass;
+//! * friction μ (eqs. 14–19): the normal relative velocity is removed, and the
+//!   tangential one is reduced by at most μ times the normal impulse (Coulomb), or
+//!   removed when that suffices (sticking by friction). μ = 0 is frictionless.
+//!   An impulse can only push: frictional contact acts only when the faces approach.
 
+use crate::crack::ContactLaw;
+use crate::dim::Vector;
 use crate::simulation::Simulation;
+
+/// Which fields of a two-field node are "above" and "below" the crack: field 1 is the
+/// particles above the crack relative to the node, field 2 below; field 0 is on the
+/// node's own side, so it is below when the other is 1 and above when the other is 2.
+#[inline]
+fn above_below(present: u8) -> Option<(usize, usize)> {
+    match present {
+        0b110 => Some((1, 2)),
+        0b011 => Some((1, 0)),
+        0b101 => Some((0, 2)),
+        _ => None,
+    }
+}
+
+/// The momentum change of the above field for a contact law, or None if no contact.
+/// `dv` = v_a − v_b, `n` the normal from above to below, `mred` = m_a m_b/(m_a + m_b).
+pub fn contact_impulse(law: ContactLaw, dv: Vector, n: Vector, mred: f64, forced: bool) -> Option<Vector> {
+    let dvn = dv.dot(&n);
+    if !(forced || dvn > 0.0) {
+        return None;
+    }
+    match law {
+        ContactLaw::None => None,
+        // Eq. 13: Δp_a = (m_a p_b − m_b p_a)/(m_a + m_b) = −m_red (v_a − v_b).
+        ContactLaw::Stick => Some(-dv * mred),
+        ContactLaw::Friction(mu) => {
+            if dvn <= 0.0 {
+                return None;
+            }
+            let normal = -n * (mred * dvn);
+            let dvt = dv - n * dvn;
+            let vt = dvt.norm();
+            let tangential = if vt <= mu * dvn {
+                -dvt * mred
+            } else {
+                -dvt * (mu * mred * dvn / vt)
+            };
+            Some(normal + tangential)
+        }
+    }
+}
 
 impl Simulation {
     /// Contact on momenta extrapolated from the particles (Tasks 2 and 6c).
-    pub(crate) fn apply_contact_to_momenta(&mut self) {}
+    pub(crate) fn apply_contact_to_momenta(&mut self) {
+        self.contact_pass(false);
+    }
 
-    /// Contact on the momenta of Task 4, with the total forces back-computed.
-    pub(crate) fn apply_contact_to_updated_momenta(&mut self) {}
+    /// Contact on the momenta of Task 4, with the total forces back-computed so Task 5
+    /// moves the particles consistently.
+    pub(crate) fn apply_contact_to_updated_momenta(&mut self) {
+        self.contact_pass(true);
+    }
+
+    fn contact_pass(&mut self, back_compute_forces: bool) {
+        let dt = self.options.dt;
+        let cell = self.grid.cell_area();
+        let nodes = &mut self.nodes;
+        for &node in &nodes.active {
+            let i = node as usize;
+            let Some((a, b)) = above_below(nodes.present[i]) else { continue };
+            let crack = &self.cracks[nodes.crack[i] as usize];
+            if crack.contact == ContactLaw::None {
+                continue;
+            }
+            let v_rel = nodes.volume[i] / cell;
+            if v_rel < crack.v_sep {
+                continue;
+            }
+            let (ma, mb) = (nodes.fields[a].mass[i], nodes.fields[b].mass[i]);
+            let (pa, pb) = (nodes.fields[a].mom[i], nodes.fields[b].mom[i]);
+            let dv = pa / ma - pb / mb;
+            let mred = ma * mb / (ma + mb);
+            let Some(dp) = contact_impulse(crack.contact, dv, nodes.normal[i], mred, v_rel > crack.v_contact) else {
+                continue;
+            };
+            nodes.fields[a].mom[i] = pa + dp;
+            nodes.fields[b].mom[i] = pb - dp;
+            if back_compute_forces {
+                nodes.fields[a].ftot[i] += dp / dt;
+                nodes.fields[b].ftot[i] -= dp / dt;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stick_gives_both_fields_the_centre_of_mass_velocity() {
+        let (ma, mb) = (2.0, 3.0);
+        let (va, vb) = (Vector::new(1.0, -2.0), Vector::new(-0.5, 1.0));
+        let mred = ma * mb / (ma + mb);
+        let dp = contact_impulse(ContactLaw::Stick, va - vb, Vector::new(0.0, -1.0), mred, false).unwrap();
+        let vcm = (va * ma + vb * mb) / (ma + mb);
+        assert!(((va * ma + dp) / ma - vcm).norm() < 1e-15);
+        assert!(((vb * mb - dp) / mb - vcm).norm() < 1e-15);
+    }
+
+    #[test]
+    fn frictionless_removes_only_the_normal_approach() {
+        let n = Vector::new(0.0, -1.0);
+        let dv = Vector::new(0.3, -1.0); // above moving down onto below, sliding in x
+        let dp = contact_impulse(ContactLaw::Friction(0.0), dv, n, 1.0, false).unwrap();
+        assert!((dp - Vector::new(0.0, 1.0)).norm() < 1e-15);
+        // separating faces get no impulse
+        assert!(contact_impulse(ContactLaw::Friction(0.0), -dv, n, 1.0, false).is_none());
+    }
+
+    #[test]
+    fn coulomb_friction_limits_the_tangential_impulse() {
+        let n = Vector::new(0.0, -1.0);
+        let dv = Vector::new(2.0, -1.0);
+        let dp = contact_impulse(ContactLaw::Friction(0.5), dv, n, 1.0, false).unwrap();
+        // normal impulse 1, tangential at most 0.5, opposing the slip
+        assert!((dp - Vector::new(-0.5, 1.0)).norm() < 1e-15);
+        // enough friction: sticks
+        let dp = contact_impulse(ContactLaw::Friction(5.0), dv, n, 1.0, false).unwrap();
+        assert!((dp + dv).norm() < 1e-15);
+    }
 }

@@ -107,6 +107,8 @@ pub struct Nodes {
     pub volume: Vec<f64>,
     /// Average crack normal per node (from above to below), only with cracks.
     pub normal: Vec<Vector>,
+    /// Which crack split each node (u16::MAX: none), only with cracks.
+    pub crack: Vec<u16>,
     /// Nodes touched by at least one particle this step, ascending.
     pub active: Vec<u32>,
 }
@@ -119,6 +121,7 @@ impl Nodes {
             present: vec![0; num_nodes],
             volume: if with_cracks { vec![0.0; num_nodes] } else { Vec::new() },
             normal: if with_cracks { vec![Vector::zeros(); num_nodes] } else { Vec::new() },
+            crack: if with_cracks { vec![u16::MAX; num_nodes] } else { Vec::new() },
             active: Vec::with_capacity(num_nodes),
         }
     }

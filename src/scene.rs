@@ -549,16 +549,14 @@ impl Scene {
         let cracks = self
             .cracks
             .iter()
-            .map(|c| Crack {
-                points: c.points.iter().map(|p| v(*p)).collect(),
-                contact: match c.contact {
+            .map(|c| {
+                let law = match c.contact {
                     ContactSpec::None => ContactLaw::None,
                     ContactSpec::Stick => ContactLaw::Stick,
                     ContactSpec::Frictionless => ContactLaw::Friction(0.0),
                     ContactSpec::Friction { mu } => ContactLaw::Friction(mu),
-                },
-                v_sep: c.v_sep,
-                v_contact: c.v_contact,
+                };
+                Crack::new(c.points.iter().map(|p| v(*p)).collect(), law, c.v_sep, c.v_contact)
             })
             .collect();
         let options = Options {
@@ -569,7 +567,8 @@ impl Scene {
             checked: self.solver.checked,
         };
         let body_force = self.bodies.iter().map(|b| v(b.body_force)).collect();
-        Ok(Simulation::new(grid, particles, mats, body_force, loads, bcs, cracks, options))
+        let thickness = self.bodies.iter().map(|b| b.thickness).collect();
+        Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options))
     }
 
     /// History interval (default end_time / 100).

@@ -147,6 +147,8 @@ pub struct Simulation {
     pub materials: Vec<LinearElastic>,
     /// Body force (acceleration) per body.
     pub body_force: Vec<Vector>,
+    /// Thickness per body (2D), so particle areas can be recovered for contact volumes.
+    pub thickness: Vec<f64>,
     pub loads: Vec<Load>,
     pub bcs: NodeBcs,
     pub cracks: Vec<Crack>,
@@ -163,6 +165,9 @@ pub struct Simulation {
     pub(crate) momentum_conserving: bool,
     /// Total energy scale at t = 0 for the instability check.
     pub(crate) energy_scale: f64,
+    /// Side (+1 above, −1 below, 0 unknown) of each particle relative to each crack,
+    /// index p·ncracks + c (checked mode, cracks only).
+    pub(crate) crack_side: Vec<i8>,
 }
 
 impl Simulation {
@@ -173,6 +178,7 @@ impl Simulation {
         particles: Particles,
         materials: Vec<LinearElastic>,
         body_force: Vec<Vector>,
+        thickness: Vec<f64>,
         loads: Vec<Load>,
         bcs: NodeBcs,
         cracks: Vec<Crack>,
@@ -190,6 +196,7 @@ impl Simulation {
             particles,
             materials,
             body_force,
+            thickness,
             loads,
             bcs,
             cracks,
@@ -202,9 +209,14 @@ impl Simulation {
             momentum_ref: Vector::zeros(),
             momentum_conserving,
             energy_scale: 0.0,
+            crack_side: Vec::new(),
         };
         let e = sim.energies();
         sim.energy_scale = e.kinetic + e.strain;
+        if sim.has_cracks() && sim.options.checked {
+            // Record every particle's side of every crack before the first step.
+            let _ = sim.check_crack_sides();
+        }
         sim
     }
 

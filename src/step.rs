@@ -57,6 +57,9 @@ impl Simulation {
         self.step_count += 1;
         if self.options.checked {
             self.check_after_step()?;
+            if self.has_cracks() {
+                self.check_crack_sides()?;
+            }
         }
         Ok(())
     }
@@ -126,6 +129,7 @@ impl Simulation {
         let nf = self.nodes.fields.len();
         let p = &self.particles;
         let pairs = &self.pairs;
+        let thickness = &self.thickness;
         let nodes = &mut self.nodes;
         let mut acc = [[ExactSum::new(), ExactSum::new(), ExactSum::new()], [ExactSum::new(), ExactSum::new(), ExactSum::new()], [ExactSum::new(), ExactSum::new(), ExactSum::new()]];
         let mut vol = ExactSum::new();
@@ -147,7 +151,8 @@ impl Simulation {
                 acc[f][1].add(m * p.v[pp].x * s);
                 acc[f][2].add(m * p.v[pp].y * s);
                 if with_cracks {
-                    vol.add(p.volume(pp) * s);
+                    // Nodal area (eq. 27 per unit thickness), compared with the cell area.
+                    vol.add(p.volume(pp) / thickness[p.body[pp] as usize] * s);
                 }
             }
             nodes.present[i] = present;
@@ -159,6 +164,9 @@ impl Simulation {
             if with_cracks {
                 nodes.volume[i] = vol.value();
             }
+        }
+        if with_cracks {
+            self.finish_crack_nodes()?;
         }
         if self.options.checked {
             self.check_nodal_masses()?;

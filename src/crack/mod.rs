@@ -1,10 +1,17 @@
 //! Explicit cracks (Nairn 2003 §2): massless crack particles joined into polylines,
-//! the line-crossing test that assigns each particle–node pair its velocity field,
-//! and the crack surfaces.
+//! the line-crossing test that assigns each particle–node pair its velocity field
+//! (Task 1), crack motion in the centre-of-mass velocity (Task 7), and the crack
+//! surfaces, each moved in the velocity field of its own side (004 §2.1; 001 eqs. 11–12),
+//! whose separation gives the crack-opening displacements.
 
 pub mod geometry;
 
+use crate::check::CheckError;
 use crate::dim::Vector;
+use crate::exact::ExactSum;
+use crate::shape::{self, ShapeKind, MAX_NODES};
+use crate::simulation::Simulation;
+use geometry::{Extent, Side};
 use serde::{Deserialize, Serialize};
 
 /// How the two faces of a crack interact where they touch (Nairn 2003 §2.2).
@@ -18,26 +25,227 @@ pub enum ContactLaw {
     Friction(f64),
 }
 
-/// One crack: its crack particles in order along the polyline, and its contact law.
+/// One crack: its crack particles in order along the polyline, its contact law, and the
+/// positions of its two surfaces at every crack particle.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Crack {
+    /// Crack particles (moved in the centre-of-mass velocity, Task 7).
     pub points: Vec<Vector>,
     pub contact: ContactLaw,
     /// Relative nodal volume below which the faces are separated (eq. 10).
     pub v_sep: f64,
     /// Relative nodal volume above which the faces are in contact.
     pub v_contact: f64,
+    /// Bounding box of `points` (Subtask 1 of the line-crossing algorithm).
+    pub extent: Extent,
+    /// Upper-surface position of each crack particle (moved in the "above" field).
+    pub above: Vec<Vector>,
+    /// Lower-surface position of each crack particle (moved in the "below" field).
+    pub below: Vec<Vector>,
 }
 
-use crate::check::CheckError;
-use crate::simulation::Simulation;
+impl Crack {
+    pub fn new(points: Vec<Vector>, contact: ContactLaw, v_sep: f64, v_contact: f64) -> Self {
+        let extent = Extent::of(&points);
+        Crack { above: points.clone(), below: points.clone(), points, contact, v_sep, v_contact, extent }
+    }
+
+    /// Crack-opening displacement at crack particle k: above − below.
+    pub fn opening(&self, k: usize) -> Vector {
+        self.above[k] - self.below[k]
+    }
+}
+
+/// Velocity field index for a crossing result (eq. 2): 0 none, 1 above, 2 below.
+#[inline]
+fn field_of(side: Side) -> u8 {
+    match side {
+        Side::None => 0,
+        Side::Above => 1,
+        Side::Below => 2,
+    }
+}
 
 impl Simulation {
-    /// Task 1 with cracks: ν(p,i) for every pair by the line-crossing algorithm.
+    /// Task 1 with cracks: ν(p,i) for every pair by the line-crossing algorithm, and the
+    /// crack that split each node. A node split by two different cracks, or needing
+    /// fields 0, 1 and 2 at once, stops the run: CRAMP allows two fields per node.
     pub(crate) fn assign_velocity_fields(&mut self) -> Result<(), CheckError> {
+        let grid = &self.grid;
+        let p = &self.particles;
+        let pairs = &mut self.pairs;
+        let node_crack = &mut self.nodes.crack;
+        node_crack.fill(u16::MAX);
+        for i in 0..p.len() {
+            let base = i * MAX_NODES;
+            let xp = p.x[i];
+            for k in base..base + pairs.count[i] as usize {
+                let node = pairs.node[k] as usize;
+                let xn = grid.node_pos(node);
+                let mut field = 0u8;
+                for (c, crack) in self.cracks.iter().enumerate() {
+                    let side = geometry::crossing(&crack.points, &crack.extent, xp, xn);
+                    if side == Side::None {
+                        continue;
+                    }
+                    let nc = node_crack[node];
+                    if nc != u16::MAX && nc as usize != c {
+                        return Err(CheckError::TooManyFields { step: self.step_count, node, cracks: vec![nc as usize, c] });
+                    }
+                    node_crack[node] = c as u16;
+                    field = field_of(side);
+                    break;
+                }
+                pairs.field[k] = field;
+            }
+        }
         Ok(())
     }
 
-    /// Task 7: move the crack particles in the centre-of-mass velocity of the nodes (eq. 32).
-    pub(crate) fn task7_move_cracks(&mut self) {}
+    /// After the Task 1 gather: every node has at most two fields, and a node with two
+    /// fields gets the crack normal of the crack that split it (the normal of the segment
+    /// nearest the node, directed from above to below, §2.2).
+    pub(crate) fn finish_crack_nodes(&mut self) -> Result<(), CheckError> {
+        for &node in &self.nodes.active {
+            let i = node as usize;
+            let present = self.nodes.present[i];
+            if present == 0b111 {
+                let c = self.nodes.crack[i] as usize;
+                return Err(CheckError::TooManyFields { step: self.step_count, node: i, cracks: vec![c] });
+            }
+            if present.count_ones() == 2 {
+                let crack = &self.cracks[self.nodes.crack[i] as usize];
+                self.nodes.normal[i] = nearest_segment_normal(&crack.points, self.grid.node_pos(i));
+            }
+        }
+        Ok(())
+    }
+
+    /// Task 7: move every crack particle in the centre-of-mass velocity of its nodes
+    /// (eq. 32), and each crack surface in the velocity field of its own side. Linear
+    /// shape functions at the crack particles (they are massless points).
+    pub(crate) fn task7_move_cracks(&mut self) {
+        let dt = self.options.dt;
+        let nodes = &self.nodes;
+        let grid = &self.grid;
+        let zero = Vector::zeros();
+        // Velocity of node i seen from side `pref` (1 above, 2 below, 0 centre of mass).
+        let vel = |i: usize, pref: usize| -> Option<Vector> {
+            let present = nodes.present[i];
+            if present == 0 {
+                return None;
+            }
+            if pref == 0 {
+                let mut m = ExactSum::new();
+                let mut px = ExactSum::new();
+                let mut py = ExactSum::new();
+                for (f, fa) in nodes.fields.iter().enumerate() {
+                    if present & (1 << f) != 0 {
+                        m.add(fa.mass[i]);
+                        px.add(fa.mom[i].x);
+                        py.add(fa.mom[i].y);
+                    }
+                }
+                return Some(Vector::new(px.value(), py.value()) / m.value());
+            }
+            let other = 3 - pref;
+            let f = [pref, 0, other].into_iter().find(|&f| present & (1 << f) != 0)?;
+            Some(nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
+        };
+        let moved = |x: &Vector, pref: usize| -> Vector {
+            let w = shape::weights(grid, ShapeKind::Linear, x, &zero);
+            let mut sx = ExactSum::new();
+            let mut sy = ExactSum::new();
+            for k in 0..w.n {
+                if let Some(v) = vel(w.node[k] as usize, pref) {
+                    sx.add(w.s[k] * v.x);
+                    sy.add(w.s[k] * v.y);
+                }
+            }
+            x + Vector::new(sx.value(), sy.value()) * dt
+        };
+        for crack in &mut self.cracks {
+            for k in 0..crack.points.len() {
+                crack.points[k] = moved(&crack.points[k], 0);
+                crack.above[k] = moved(&crack.above[k], 1);
+                crack.below[k] = moved(&crack.below[k], 2);
+            }
+            crack.extent = Extent::of(&crack.points);
+        }
+    }
+
+    /// Checked mode: no particle near a crack changes side. A particle's side is known
+    /// when its projection on the crack falls inside a segment within two cells of it;
+    /// passing round a tip goes through "unknown" and resets the record.
+    pub(crate) fn check_crack_sides(&mut self) -> Result<(), CheckError> {
+        let nc = self.cracks.len();
+        let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
+        let p = &self.particles;
+        if self.crack_side.len() != p.len() * nc {
+            self.crack_side = vec![0; p.len() * nc];
+        }
+        for (c, crack) in self.cracks.iter().enumerate() {
+            let mut ext = crack.extent;
+            ext.min -= Vector::new(reach, reach);
+            ext.max += Vector::new(reach, reach);
+            for i in 0..p.len() {
+                let x = p.x[i];
+                let slot = i * nc + c;
+                let side = if x.x < ext.min.x || x.x > ext.max.x || x.y < ext.min.y || x.y > ext.max.y {
+                    0
+                } else {
+                    side_of(&crack.points, x, reach)
+                };
+                let before = self.crack_side[slot];
+                if before != 0 && side != 0 && side != before {
+                    return Err(CheckError::CrackCrossing { step: self.step_count, particle: i, id: p.id[i], crack: c, before, after: side });
+                }
+                self.crack_side[slot] = side;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// +1 if `x` is left of (above) the nearest segment whose interior it projects onto
+/// within `reach`, −1 if right of (below), 0 if unknown (beyond the tips or far).
+fn side_of(points: &[Vector], x: Vector, reach: f64) -> i8 {
+    let mut best = (f64::INFINITY, 0i8);
+    for s in points.windows(2) {
+        let d = s[1] - s[0];
+        let l2 = d.norm_squared();
+        if l2 == 0.0 {
+            continue;
+        }
+        let t = (x - s[0]).dot(&d) / l2;
+        if !(0.0..=1.0).contains(&t) {
+            continue;
+        }
+        let area = geometry::signed_area(s[0], s[1], x);
+        let dist = area.abs() / l2.sqrt();
+        if dist < reach && dist < best.0 {
+            best = (dist, if area > 0.0 { 1 } else if area < 0.0 { -1 } else { 0 });
+        }
+    }
+    best.1
+}
+
+/// Normal (above → below) of the crack segment nearest to `x`.
+fn nearest_segment_normal(points: &[Vector], x: Vector) -> Vector {
+    let mut best = (f64::INFINITY, Vector::new(0.0, -1.0));
+    for s in points.windows(2) {
+        let d = s[1] - s[0];
+        let l2 = d.norm_squared();
+        if l2 == 0.0 {
+            continue;
+        }
+        let t = ((x - s[0]).dot(&d) / l2).clamp(0.0, 1.0);
+        let dist = (x - (s[0] + d * t)).norm_squared();
+        if dist < best.0 {
+            if let Some(n) = geometry::segment_normal(s[0], s[1]) {
+                best = (dist, n);
+            }
+        }
+    }
+    best.1
 }
