@@ -88,8 +88,8 @@ pub fn strain_energy_density_factor(k1: f64, k2: f64, kappa: f64, mu: f64, theta
     sed_factor(k1, k2, kappa, theta) / (16.0 * PI * mu)
 }
 
-/// d(16πμ S)/dθ = K_I² sin θ (2cos θ + 1 − κ) + 2K_IK_II (4cos²θ − (κ−1)cos θ − 2)
-/// + K_II² sin θ (κ − 1 − 6 cos θ). Proportional to the left side of paper 001 eq. 24
+/// d(16πμ S)/dθ = K_I² sin θ (2cos θ + 1 − κ) + 2K_IK_II (4cos²θ − (κ−1)cos θ − 2) +
+/// K_II² sin θ (κ − 1 − 6 cos θ). Proportional to the left side of paper 001 eq. 24
 /// (factor K_I² + K_II², checked in the tests).
 fn sed_factor_derivative(k1: f64, k2: f64, kappa: f64, theta: f64) -> f64 {
     let (s, c) = theta.sin_cos();
@@ -376,8 +376,8 @@ mod tests {
     #[test]
     fn sed_derivative_matches_paper_eq24() {
         let kap = 1.8;
-        for (k1, k2) in [(1.0, 0.7), (0.3, 2.0), (1.0, -0.4)] {
-            let a = (k1 / k2 as f64).atan();
+        for (k1, k2) in [(1.0f64, 0.7f64), (0.3, 2.0), (1.0, -0.4)] {
+            let a = (k1 / k2).atan();
             for t in [-2.0, -1.0, -0.3, 0.4, 1.3] {
                 let eq24 = (kap - 1.0) * (t - 2.0 * a).sin() - 2.0 * (2.0 * (t - a)).sin() - (2.0 * t).sin();
                 let d = sed_factor_derivative(k1, k2, kap, t);
