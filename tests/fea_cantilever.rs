@@ -54,7 +54,9 @@ impl Exact {
         let d = -P * L * L / (2.0 * e * i) - P * C * C / (2.0 * g * i);
         let h = P * L.powi(3) / (3.0 * e * i) + P * C * C * L / (2.0 * g * i);
         Vector::new(
-            -P * x * x * y / (2.0 * e * i) - nu * P * y.powi(3) / (6.0 * e * i) + P * y.powi(3) / (6.0 * g * i) + ee * y,
+            -P * x * x * y / (2.0 * e * i) - nu * P * y.powi(3) / (6.0 * e * i)
+                + P * y.powi(3) / (6.0 * g * i)
+                + ee * y,
             nu * P * x * y * y / (2.0 * e * i) + P * x.powi(3) / (6.0 * e * i) + d * x + h,
         )
     }
@@ -91,7 +93,12 @@ fn tip_error(m: usize, mat: &LinearElastic) -> (f64, f64) {
     let v = sol.displacement[tip].y;
     let v_ref = ex.tip_deflection();
     assert!((ex.displacement(Vector::new(0.0, 0.0)).y - v_ref).abs() < 1e-12 * v_ref);
-    println!("mesh {:>3} x {:>2}: v_tip = {v:.10}, exact {v_ref:.10}, rel. error {:.4e}", 5 * m, m, (v - v_ref) / v_ref);
+    println!(
+        "mesh {:>3} x {:>2}: v_tip = {v:.10}, exact {v_ref:.10}, rel. error {:.4e}",
+        5 * m,
+        m,
+        (v - v_ref) / v_ref
+    );
     ((v - v_ref) / v_ref, v)
 }
 

@@ -38,18 +38,28 @@ fn solve(h: f64, state: PlaneState) -> (Vec<JResult>, f64) {
         }
     }
     let mut bcs = BoundaryConditions::new(&gm.mesh);
-    for a in 0..gm.mesh.n_nodes() {
-        let p = gm.mesh.nodes[a];
+    for (a, (&p, &upper)) in gm.mesh.nodes.iter().zip(&upper_face).enumerate() {
         if p.x.abs() < 10.0 - 1e-9 && p.y.abs() < 10.0 - 1e-9 {
             continue;
         }
-        let theta = if p.y == 0.0 && p.x < 0.0 { if upper_face[a] { PI } else { -PI } } else { p.y.atan2(p.x) };
+        let theta = if p.y == 0.0 && p.x < 0.0 {
+            if upper {
+                PI
+            } else {
+                -PI
+            }
+        } else {
+            p.y.atan2(p.x)
+        };
         let r = p.norm();
         let u = williams_displacement(1, r, theta, mu, kappa) + 0.5 * williams_displacement(2, r, theta, mu, kappa);
         bcs.prescribe_node(a, u).unwrap();
     }
     let sol = fea::solve(&model, &bcs).unwrap();
-    let rs = [2.0, 4.0, 6.0].iter().map(|d| fea::j_integral(&gm, &model, &sol, &tip, (d / h).round() as usize).unwrap()).collect();
+    let rs = [2.0, 4.0, 6.0]
+        .iter()
+        .map(|d| fea::j_integral(&gm, &model, &sol, &tip, (d / h).round() as usize).unwrap())
+        .collect();
     (rs, mat.e_prime())
 }
 

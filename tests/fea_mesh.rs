@@ -63,9 +63,7 @@ fn edge_crack_and_kinked_crack() {
 fn off_grid_cracks_are_clear_errors() {
     let mut gm = GridMesh::from_grid(unit_grid(6), |_, _, _| true).unwrap();
     // Second segment is diagonal.
-    let err = gm
-        .cut_cracks(&[vec![Vector::new(0.0, 3.0), Vector::new(2.0, 3.0), Vector::new(3.0, 4.0)]])
-        .unwrap_err();
+    let err = gm.cut_cracks(&[vec![Vector::new(0.0, 3.0), Vector::new(2.0, 3.0), Vector::new(3.0, 4.0)]]).unwrap_err();
     println!("{err}");
     assert!(matches!(err, FeaError::CrackOffGrid { crack: 0, segment: 1, .. }));
     assert!(err.to_string().contains("neither horizontal nor vertical"));

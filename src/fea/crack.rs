@@ -91,7 +91,9 @@ impl GridMesh {
                         cut_v[i + j * (g.nx + 1)] = true;
                     }
                 } else {
-                    return Err(off("the segment is neither horizontal nor vertical, so it does not follow a grid line"));
+                    return Err(off(
+                        "the segment is neither horizontal nor vertical, so it does not follow a grid line",
+                    ));
                 }
                 if s == 0 {
                     first_last[0] = [a.0, a.1];
@@ -123,7 +125,7 @@ impl GridMesh {
                     (self.element_at(ii - 1, jj), 1),          // NW
                 ];
                 let shared_cut = [below, right, above, left]; // between ring[k] and ring[k+1]
-                // Connected classes around the ring (at most 4 members: simple relabelling).
+                                                              // Connected classes around the ring (at most 4 members: simple relabelling).
                 let mut class = [usize::MAX; 4];
                 let mut n_class = 0;
                 // Start right after a break (a cut edge or a missing cell) so a class never wraps.

@@ -42,7 +42,7 @@ pub struct PointData {
 pub fn point_data(x: &[Vector; 4], xi: f64, eta: f64) -> Result<PointData, f64> {
     let dn = shape_grad_natural(xi, eta);
     // Jacobian J_ij = ∂x_i/∂ξ_j.
-    let mut jac = Matrix2::zeros();
+    let mut jac = Matrix2::<f64>::zeros();
     for a in 0..4 {
         jac[(0, 0)] += x[a].x * dn[a][0];
         jac[(0, 1)] += x[a].x * dn[a][1];
@@ -50,13 +50,14 @@ pub fn point_data(x: &[Vector; 4], xi: f64, eta: f64) -> Result<PointData, f64> 
         jac[(1, 1)] += x[a].y * dn[a][1];
     }
     let det_j = jac.determinant();
-    // Written as a negated test so NaN is rejected too.
-    if !(det_j > 0.0) {
+    // NaN (non-finite coordinates) is rejected too.
+    if det_j.is_nan() || det_j <= 0.0 {
         return Err(det_j);
     }
     // ∇_x N = J^{-T} ∇_ξ N.
     let inv = Matrix2::new(jac[(1, 1)], -jac[(0, 1)], -jac[(1, 0)], jac[(0, 0)]) / det_j;
-    let grad_n = dn.map(|[dxi, deta]| Vector::new(inv[(0, 0)] * dxi + inv[(1, 0)] * deta, inv[(0, 1)] * dxi + inv[(1, 1)] * deta));
+    let grad_n = dn
+        .map(|[dxi, deta]| Vector::new(inv[(0, 0)] * dxi + inv[(1, 0)] * deta, inv[(0, 1)] * dxi + inv[(1, 1)] * deta));
     Ok(PointData { n: shape(xi, eta), grad_n, det_j })
 }
 
@@ -152,8 +153,8 @@ mod tests {
             assert!((sum - 1.0).abs() < 1e-15);
             // ∇(Σ N_a x_a) = I
             let mut h = Matrix2::zeros();
-            for a in 0..4 {
-                h += x[a] * p.grad_n[a].transpose();
+            for (xa, ga) in x.iter().zip(&p.grad_n) {
+                h += xa * ga.transpose();
             }
             assert!((h - Matrix2::identity()).norm() < 1e-14);
         }

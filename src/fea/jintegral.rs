@@ -21,6 +21,19 @@
 //! **A second, cruder mode split** uses J and the crack-face displacement jump at the
 //! first node pair behind the tip: near the tip Δu1/Δu2 = K_II/K_I (Anderson Tables
 //! 2.1–2.2), so K_I = sign(Δu2) √(E′J/(1+ρ²)), K_II = ρ K_I with ρ = Δu1/Δu2.
+//!
+//! **Accuracy on uniform Q4 meshes** (no singular elements; measured in
+//! `tests/fea_kfield.rs` and `tests/fea_dcb.rs`): J and the interaction-integral K both
+//! converge as O(h), as expected for an r^½ singularity (Babuška & Miller 1984).
+//! * Williams boundary-layer problem (displacement-driven): K_I, K_II errors 2 %, 1 %, 0.5 %
+//!   at h = 1/20, 1/40, 1/80 of the box size; J·E′ agrees with K_I² + K_II² to < 1e-3.
+//! * Load-driven DCB (bending-dominated): √(E′J) is within 0.5 % of beam theory at 1 mm
+//!   elements, the interaction-integral K_I is 3.8 % low at 1 mm, 1.9 % at 0.5 mm; both
+//!   converge to the same limit. Prefer √(E′J) for the magnitude and use the
+//!   interaction integral for the mode ratio (or extrapolate in h).
+//! * The COD split is crude: on the boundary-layer problem its K_II/K_I ratio is ~10 % off
+//!   (first node pair behind the tip, where the FE field is least accurate); use it only
+//!   as a sign check of the mode mix.
 
 use super::crack::CrackTip;
 use super::element::{self, GAUSS};
@@ -157,8 +170,11 @@ pub fn j_integral(gm: &GridMesh, model: &Model, sol: &Solution, tip: &CrackTip, 
             let x = gm.mesh.element_coords(e);
             let u = conn.map(|a| sol.displacement[a]);
             for (g, [xi, eta]) in GAUSS.iter().enumerate() {
-                let p = element::point_data(&x, *xi, *eta)
-                    .map_err(|det_j| FeaError::BadElement { element: e, gauss: g, det_j })?;
+                let p = element::point_data(&x, *xi, *eta).map_err(|det_j| FeaError::BadElement {
+                    element: e,
+                    gauss: g,
+                    det_j,
+                })?;
                 let dq = (0..4).fold(Vector::zeros(), |s, a| s + p.grad_n[a] * q[a]);
                 let h = element::displacement_gradient(&p.grad_n, &u);
                 let sg = sol.gauss_stress[e][g];
@@ -186,7 +202,8 @@ pub fn j_integral(gm: &GridMesh, model: &Model, sol: &Solution, tip: &CrackTip, 
         }
     }
 
-    let cod = crack_face_jump(gm, sol, tip, e1, e2).ok_or_else(|| bad_tip("no duplicated node pair one cell behind the tip"))?;
+    let cod = crack_face_jump(gm, sol, tip, e1, e2)
+        .ok_or_else(|| bad_tip("no duplicated node pair one cell behind the tip"))?;
     let jp = j.max(0.0);
     let (k1_cod, k2_cod) = if cod.y != 0.0 {
         let rho = cod.x / cod.y;
@@ -263,7 +280,12 @@ mod tests {
                     let scale = s.iter().map(|v| v.abs()).fold(0.0, f64::max);
                     // Central differences: error ~ h² u''' ≈ 1e-12 relative; 1e-7 leaves room for cancellation.
                     for k in 0..3 {
-                        assert!((s[k] - s_fd[k]).abs() < 1e-7 * scale, "mode {mode} {state:?} σ{k}: {} vs {}", s[k], s_fd[k]);
+                        assert!(
+                            (s[k] - s_fd[k]).abs() < 1e-7 * scale,
+                            "mode {mode} {state:?} σ{k}: {} vs {}",
+                            s[k],
+                            s_fd[k]
+                        );
                     }
                     assert!((du1[0] - dx.x).abs() < 1e-7 * dx.norm() && (du1[1] - dx.y).abs() < 1e-7 * dx.norm());
                 }

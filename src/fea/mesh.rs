@@ -33,10 +33,7 @@ impl Mesh {
             for k in 0..4 {
                 for l in k + 1..4 {
                     if conn[k] == conn[l] {
-                        return Err(FeaError::InvalidInput(format!(
-                            "element {e} uses node {} twice",
-                            conn[k]
-                        )));
+                        return Err(FeaError::InvalidInput(format!("element {e} uses node {} twice", conn[k])));
                     }
                 }
             }
@@ -83,10 +80,7 @@ impl Grid {
             return Err(FeaError::InvalidGrid(format!("origin ({}, {}) is not finite", origin.x, origin.y)));
         }
         if !(h.x > 0.0 && h.y > 0.0 && h.x.is_finite() && h.y.is_finite()) {
-            return Err(FeaError::InvalidGrid(format!(
-                "cell size ({}, {}) must be positive and finite",
-                h.x, h.y
-            )));
+            return Err(FeaError::InvalidGrid(format!("cell size ({}, {}) must be positive and finite", h.x, h.y)));
         }
         if nx == 0 || ny == 0 {
             return Err(FeaError::InvalidGrid(format!("{nx} × {ny} cells: need at least one cell each way")));
@@ -182,7 +176,9 @@ impl GridMesh {
         }
         let elements = element_cell
             .iter()
-            .map(|&[i, j]| [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)].map(|(a, b)| mesh_node[grid.node_index(a, b)]))
+            .map(|&[i, j]| {
+                [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)].map(|(a, b)| mesh_node[grid.node_index(a, b)])
+            })
             .collect();
         Ok(GridMesh { grid, mesh: Mesh { nodes, elements }, element_cell, cell_element, node_grid })
     }

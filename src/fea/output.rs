@@ -18,7 +18,11 @@ pub struct NodalResults {
 
 /// Nodal positions, displacements and averaged stresses.
 pub fn nodal_results(mesh: &Mesh, sol: &Solution) -> NodalResults {
-    NodalResults { position: mesh.nodes.clone(), displacement: sol.displacement.clone(), stress: sol.nodal_stress.clone() }
+    NodalResults {
+        position: mesh.nodes.clone(),
+        displacement: sol.displacement.clone(),
+        stress: sol.nodal_stress.clone(),
+    }
 }
 
 /// One sample of [`probe_line`].

@@ -32,7 +32,10 @@ impl<'m> Model<'m> {
     /// Validate the material, the thickness and every element (det J > 0 at all Gauss points).
     pub fn new(mesh: &'m Mesh, material: LinearElastic, thickness: f64) -> Result<Model<'m>> {
         if !(material.e > 0.0 && material.e.is_finite()) {
-            return Err(FeaError::InvalidInput(format!("Young's modulus E = {} must be positive and finite", material.e)));
+            return Err(FeaError::InvalidInput(format!(
+                "Young's modulus E = {} must be positive and finite",
+                material.e
+            )));
         }
         let nu_max = match material.state {
             PlaneState::PlaneStrain => 0.5,
@@ -53,7 +56,11 @@ impl<'m> Model<'m> {
         for e in 0..mesh.elements.len() {
             let x = mesh.element_coords(e);
             for (g, [xi, eta]) in GAUSS.iter().enumerate() {
-                element::point_data(&x, *xi, *eta).map_err(|det_j| FeaError::BadElement { element: e, gauss: g, det_j })?;
+                element::point_data(&x, *xi, *eta).map_err(|det_j| FeaError::BadElement {
+                    element: e,
+                    gauss: g,
+                    det_j,
+                })?;
             }
         }
         Ok(Model { mesh, material, thickness, d: material.d_matrix() })
@@ -143,7 +150,13 @@ impl BoundaryConditions {
     /// Gauss–Legendre, exact for tractions that are polynomials of degree ≤ 4 along the edge.
     ///
     /// The edge must belong to an element (checked by a scan over the elements).
-    pub fn edge_traction(&mut self, model: &Model, a: usize, b: usize, traction: impl Fn(Vector) -> Vector) -> Result<()> {
+    pub fn edge_traction(
+        &mut self,
+        model: &Model,
+        a: usize,
+        b: usize,
+        traction: impl Fn(Vector) -> Vector,
+    ) -> Result<()> {
         let mesh = model.mesh;
         mesh.check_node(a)?;
         mesh.check_node(b)?;
@@ -336,11 +349,8 @@ pub fn postprocess(model: &Model, bcs: &BoundaryConditions, displacement: Vec<Ve
         gauss_strain.push(eps_g);
         gauss_stress.push(sig_g);
     }
-    let reaction = f_int
-        .iter()
-        .enumerate()
-        .map(|(a, f)| f - Vector::new(bcs.force[2 * a], bcs.force[2 * a + 1]))
-        .collect();
+    let reaction =
+        f_int.iter().enumerate().map(|(a, f)| f - Vector::new(bcs.force[2 * a], bcs.force[2 * a + 1])).collect();
     let nodal_stress = nodal_average(mesh, &gauss_stress);
     Solution { displacement, gauss_strain, gauss_stress, nodal_stress, reaction }
 }
