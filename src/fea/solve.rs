@@ -1,0 +1,377 @@
+//! Model, boundary conditions, sparse assembly, Cholesky solve and stress recovery.
+//!
+//! The discrete problem is K u = f (Hughes 2000 §1.14, §3.9). Prescribed DOFs are
+//! eliminated: with free (f) and prescribed (p) partitions,
+//! K_ff u_f = f_f − K_fp u_p, solved by a sparse Cholesky factorisation of K_ff
+//! (only its lower triangle is stored). Reactions are recovered afterwards as
+//! r = f_int(u) − f_ext at every DOF.
+
+use super::element::{self, GAUSS};
+use super::mesh::Mesh;
+use super::{FeaError, Result};
+use crate::dim::{Sym, Vector};
+use crate::material::{LinearElastic, PlaneState};
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Mat, Side};
+use nalgebra::{Matrix3, SMatrix, Vector3};
+
+/// Mesh, material and thickness: everything that defines K.
+#[derive(Clone, Debug)]
+pub struct Model<'m> {
+    pub mesh: &'m Mesh,
+    pub material: LinearElastic,
+    /// Out-of-plane thickness t (multiplies every area integral and every traction).
+    pub thickness: f64,
+    /// D of the material's plane state (Voigt, engineering shear).
+    d: Matrix3<f64>,
+}
+
+impl<'m> Model<'m> {
+    /// Validate the material, the thickness and every element (det J > 0 at all Gauss points).
+    pub fn new(mesh: &'m Mesh, material: LinearElastic, thickness: f64) -> Result<Model<'m>> {
+        if !(material.e > 0.0 && material.e.is_finite()) {
+            return Err(FeaError::InvalidInput(format!(
+                "Young's modulus E = {} must be positive and finite",
+                material.e
+            )));
+        }
+        let nu_max = match material.state {
+            PlaneState::PlaneStrain => 0.5,
+            PlaneState::PlaneStress => 1.0,
+        };
+        if !(material.nu > -1.0 && material.nu < nu_max) {
+            return Err(FeaError::InvalidInput(format!(
+                "Poisson's ratio ν = {} must lie in (−1, {nu_max}) for {:?}",
+                material.nu, material.state
+            )));
+        }
+        if !(thickness > 0.0 && thickness.is_finite()) {
+            return Err(FeaError::InvalidInput(format!("thickness {thickness} must be positive and finite")));
+        }
+        if mesh.elements.is_empty() {
+            return Err(FeaError::InvalidInput("the mesh has no elements".into()));
+        }
+        for e in 0..mesh.elements.len() {
+            let x = mesh.element_coords(e);
+            for (g, [xi, eta]) in GAUSS.iter().enumerate() {
+                element::point_data(&x, *xi, *eta).map_err(|det_j| FeaError::BadElement {
+                    element: e,
+                    gauss: g,
+                    det_j,
+                })?;
+            }
+        }
+        Ok(Model { mesh, material, thickness, d: material.d_matrix() })
+    }
+
+    pub fn d_matrix(&self) -> &Matrix3<f64> {
+        &self.d
+    }
+
+    /// Full stress tensor (with σzz) from the Voigt strain.
+    pub fn stress_from_strain(&self, eps: &Vector3<f64>) -> Sym {
+        let s = self.d * eps;
+        let zz = match self.material.state {
+            PlaneState::PlaneStrain => self.material.nu * (s[0] + s[1]),
+            PlaneState::PlaneStress => 0.0,
+        };
+        Sym { xx: s[0], yy: s[1], zz, xy: s[2] }
+    }
+
+    /// Full strain tensor (tensor shear, with εzz) from the Voigt strain.
+    pub fn strain_tensor(&self, eps: &Vector3<f64>) -> Sym {
+        let nu = self.material.nu;
+        let zz = match self.material.state {
+            PlaneState::PlaneStrain => 0.0,
+            PlaneState::PlaneStress => -nu / (1.0 - nu) * (eps[0] + eps[1]),
+        };
+        Sym { xx: eps[0], yy: eps[1], zz, xy: 0.5 * eps[2] }
+    }
+}
+
+/// Prescribed displacements and external nodal forces, per DOF (2 per node).
+#[derive(Clone, Debug)]
+pub struct BoundaryConditions {
+    prescribed: Vec<Option<f64>>,
+    force: Vec<f64>,
+}
+
+impl BoundaryConditions {
+    /// No constraints, no loads.
+    pub fn new(mesh: &Mesh) -> BoundaryConditions {
+        BoundaryConditions { prescribed: vec![None; mesh.n_dofs()], force: vec![0.0; mesh.n_dofs()] }
+    }
+
+    fn check_node(&self, node: usize) -> Result<()> {
+        let n_nodes = self.force.len() / 2;
+        if node < n_nodes {
+            Ok(())
+        } else {
+            Err(FeaError::NodeOutOfRange { node, n_nodes })
+        }
+    }
+
+    /// Prescribe component `comp` (0 = x, 1 = y) of the displacement of `node`. A later call overrides.
+    pub fn prescribe(&mut self, node: usize, comp: usize, value: f64) -> Result<()> {
+        self.check_node(node)?;
+        if comp > 1 {
+            return Err(FeaError::InvalidInput(format!("displacement component {comp} (use 0 = x, 1 = y)")));
+        }
+        if !value.is_finite() {
+            return Err(FeaError::InvalidInput(format!("prescribed value {value} at node {node} is not finite")));
+        }
+        self.prescribed[2 * node + comp] = Some(value);
+        Ok(())
+    }
+
+    /// Prescribe both displacement components of `node`.
+    pub fn prescribe_node(&mut self, node: usize, u: Vector) -> Result<()> {
+        self.prescribe(node, 0, u.x)?;
+        self.prescribe(node, 1, u.y)
+    }
+
+    /// Add a point force (total force, not per unit thickness) at `node`.
+    pub fn point_load(&mut self, node: usize, f: Vector) -> Result<()> {
+        self.check_node(node)?;
+        if !(f.x.is_finite() && f.y.is_finite()) {
+            return Err(FeaError::InvalidInput(format!("point load at node {node} is not finite")));
+        }
+        self.force[2 * node] += f.x;
+        self.force[2 * node + 1] += f.y;
+        Ok(())
+    }
+
+    /// Add the consistent nodal forces of a traction τ(x) (force per unit area of the
+    /// face, i.e. per unit length per unit thickness) on the element edge from node `a`
+    /// to node `b`: f_a = t ∫ N_a τ ds, f_b = t ∫ N_b τ ds with the linear edge shape
+    /// functions (Cook et al. 2002, consistent loads). Integrated with 3-point
+    /// Gauss–Legendre, exact for tractions that are polynomials of degree ≤ 4 along the edge.
+    ///
+    /// The edge must belong to an element (checked by a scan over the elements).
+    pub fn edge_traction(
+        &mut self,
+        model: &Model,
+        a: usize,
+        b: usize,
+        traction: impl Fn(Vector) -> Vector,
+    ) -> Result<()> {
+        let mesh = model.mesh;
+        mesh.check_node(a)?;
+        mesh.check_node(b)?;
+        let is_edge = mesh
+            .elements
+            .iter()
+            .any(|c| (0..4).any(|k| (c[k] == a && c[(k + 1) % 4] == b) || (c[k] == b && c[(k + 1) % 4] == a)));
+        if !is_edge {
+            return Err(FeaError::NotAnEdge { a, b });
+        }
+        let (xa, xb) = (mesh.nodes[a], mesh.nodes[b]);
+        let len = (xb - xa).norm();
+        // 3-point Gauss–Legendre on s ∈ [0, 1].
+        let r = 0.5 * (0.6f64).sqrt();
+        let pts = [(0.5 - r, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + r, 5.0 / 18.0)];
+        let (mut fa, mut fb) = (Vector::zeros(), Vector::zeros());
+        for (s, w) in pts {
+            let tau = traction(xa + (xb - xa) * s);
+            if !(tau.x.is_finite() && tau.y.is_finite()) {
+                return Err(FeaError::InvalidInput(format!("traction on edge {a}–{b} is not finite")));
+            }
+            fa += tau * ((1.0 - s) * w * len * model.thickness);
+            fb += tau * (s * w * len * model.thickness);
+        }
+        self.point_load(a, fa)?;
+        self.point_load(b, fb)
+    }
+
+    pub fn prescribed(&self) -> &[Option<f64>] {
+        &self.prescribed
+    }
+
+    pub fn forces(&self) -> &[f64] {
+        &self.force
+    }
+}
+
+/// The assembled, reduced linear system K_ff u_f = f_f − K_fp u_p.
+pub struct System {
+    /// Equation number of each DOF; `usize::MAX` for a prescribed DOF.
+    pub eq: Vec<usize>,
+    /// Full DOF vector holding the prescribed values (0 at free DOFs).
+    pub u_prescribed: Vec<f64>,
+    /// Lower triangle of K_ff.
+    pub k: SparseColMat<usize, f64>,
+    /// f_f − K_fp u_p.
+    pub rhs: Vec<f64>,
+}
+
+/// Assemble the reduced system (see the module doc).
+pub fn assemble(model: &Model, bcs: &BoundaryConditions) -> Result<System> {
+    let mesh = model.mesh;
+    let n_dofs = mesh.n_dofs();
+    if bcs.prescribed.len() != n_dofs {
+        return Err(FeaError::InvalidInput(format!(
+            "boundary conditions are for {} DOFs, the mesh has {n_dofs}",
+            bcs.prescribed.len()
+        )));
+    }
+    let mut eq = vec![usize::MAX; n_dofs];
+    let mut u_prescribed = vec![0.0; n_dofs];
+    let mut n_eq = 0;
+    for (dof, p) in bcs.prescribed.iter().enumerate() {
+        match p {
+            Some(v) => u_prescribed[dof] = *v,
+            None => {
+                eq[dof] = n_eq;
+                n_eq += 1;
+            }
+        }
+    }
+    if n_eq == 0 {
+        return Err(FeaError::NoFreeDofs);
+    }
+    let mut rhs: Vec<f64> = (0..n_dofs).filter(|&d| eq[d] != usize::MAX).map(|d| bcs.force[d]).collect();
+    let mut triplets = Vec::with_capacity(36 * mesh.elements.len());
+    for (e, conn) in mesh.elements.iter().enumerate() {
+        let ke = element::stiffness(&mesh.element_coords(e), &model.d, model.thickness)
+            .map_err(|(gauss, det_j)| FeaError::BadElement { element: e, gauss, det_j })?;
+        let dofs: [usize; 8] = std::array::from_fn(|k| 2 * conn[k / 2] + k % 2);
+        for r in 0..8 {
+            let row = eq[dofs[r]];
+            if row == usize::MAX {
+                continue;
+            }
+            for c in 0..8 {
+                let col = eq[dofs[c]];
+                if col == usize::MAX {
+                    rhs[row] -= ke[(r, c)] * u_prescribed[dofs[c]];
+                } else if row >= col {
+                    triplets.push(Triplet::new(row, col, ke[(r, c)]));
+                }
+            }
+        }
+    }
+    let k = SparseColMat::<usize, f64>::try_new_from_triplets(n_eq, n_eq, &triplets)
+        .map_err(|e| FeaError::Solver(format!("building the sparse matrix: {e:?}")))?;
+    Ok(System { eq, u_prescribed, k, rhs })
+}
+
+/// A sparse Cholesky factorisation of K_ff (fill-reducing ordering chosen by faer).
+pub struct Factorization {
+    llt: Llt<usize, f64>,
+}
+
+impl System {
+    pub fn n_equations(&self) -> usize {
+        self.rhs.len()
+    }
+
+    /// Symbolic and numeric Cholesky factorisation of K_ff.
+    pub fn factorize(&self) -> Result<Factorization> {
+        let symbolic = SymbolicLlt::try_new(self.k.symbolic(), Side::Lower)
+            .map_err(|e| FeaError::Solver(format!("symbolic Cholesky: {e:?}")))?;
+        let llt = Llt::try_new_with_symbolic(symbolic, self.k.as_ref(), Side::Lower).map_err(|e| match e {
+            faer::sparse::linalg::LltError::Numeric(n) => FeaError::NotPositiveDefinite(format!("{n:?}")),
+            other => FeaError::Solver(format!("numeric Cholesky: {other:?}")),
+        })?;
+        Ok(Factorization { llt })
+    }
+
+    /// Expand the free-DOF solution into nodal displacement vectors.
+    pub fn full_displacements(&self, u_free: &[f64]) -> Vec<Vector> {
+        let dof = |d: usize| if self.eq[d] == usize::MAX { self.u_prescribed[d] } else { u_free[self.eq[d]] };
+        (0..self.eq.len() / 2).map(|a| Vector::new(dof(2 * a), dof(2 * a + 1))).collect()
+    }
+}
+
+impl Factorization {
+    /// Solve K_ff x = rhs.
+    pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
+        let mut b = Mat::<f64>::from_fn(rhs.len(), 1, |i, _| rhs[i]);
+        self.llt.solve_in_place(&mut b);
+        (0..rhs.len()).map(|i| b[(i, 0)]).collect()
+    }
+}
+
+/// The solved state: displacements, Gauss-point and nodal stresses, reactions.
+#[derive(Clone, Debug)]
+pub struct Solution {
+    /// Displacement of every node.
+    pub displacement: Vec<Vector>,
+    /// Strain (tensor shear, with εzz) at the 2×2 Gauss points of every element, in [`GAUSS`] order.
+    pub gauss_strain: Vec<[Sym; 4]>,
+    /// Stress (with σzz) at the Gauss points of every element.
+    pub gauss_stress: Vec<[Sym; 4]>,
+    /// Nodal-averaged stress: Gauss values extrapolated to the corners of each element,
+    /// then averaged over the elements sharing the node (see [`nodal_average`]).
+    pub nodal_stress: Vec<Sym>,
+    /// r = f_int(u) − f_ext per node: the reaction at prescribed DOFs, the (round-off) residual elsewhere.
+    pub reaction: Vec<Vector>,
+}
+
+/// Assemble, factorise, solve and recover stresses.
+pub fn solve(model: &Model, bcs: &BoundaryConditions) -> Result<Solution> {
+    let system = assemble(model, bcs)?;
+    let factor = system.factorize()?;
+    let u_free = factor.solve(&system.rhs);
+    if u_free.iter().any(|v| !v.is_finite()) {
+        return Err(FeaError::NotPositiveDefinite("the solution is not finite".into()));
+    }
+    Ok(postprocess(model, bcs, system.full_displacements(&u_free)))
+}
+
+/// Stresses, strains and reactions for given nodal displacements.
+pub fn postprocess(model: &Model, bcs: &BoundaryConditions, displacement: Vec<Vector>) -> Solution {
+    let mesh = model.mesh;
+    let n_el = mesh.elements.len();
+    let mut gauss_strain = Vec::with_capacity(n_el);
+    let mut gauss_stress = Vec::with_capacity(n_el);
+    let mut f_int = vec![Vector::zeros(); mesh.n_nodes()];
+    for (e, conn) in mesh.elements.iter().enumerate() {
+        let x = mesh.element_coords(e);
+        let u = conn.map(|a| displacement[a]);
+        let mut eps_g = [Sym::ZERO; 4];
+        let mut sig_g = [Sym::ZERO; 4];
+        for (g, [xi, eta]) in GAUSS.iter().enumerate() {
+            // The model validated every element, so det J > 0 here.
+            let Ok(p) = element::point_data(&x, *xi, *eta) else { continue };
+            let eps = element::strain(&p.grad_n, &u);
+            let sig = model.d * eps;
+            eps_g[g] = model.strain_tensor(&eps);
+            sig_g[g] = model.stress_from_strain(&eps);
+            let b: SMatrix<f64, 3, 8> = element::b_matrix(&p.grad_n);
+            let fe = b.transpose() * sig * (p.det_j * model.thickness);
+            for k in 0..4 {
+                f_int[conn[k]] += Vector::new(fe[2 * k], fe[2 * k + 1]);
+            }
+        }
+        gauss_strain.push(eps_g);
+        gauss_stress.push(sig_g);
+    }
+    let reaction =
+        f_int.iter().enumerate().map(|(a, f)| f - Vector::new(bcs.force[2 * a], bcs.force[2 * a + 1])).collect();
+    let nodal_stress = nodal_average(mesh, &gauss_stress);
+    Solution { displacement, gauss_strain, gauss_stress, nodal_stress, reaction }
+}
+
+/// Nodal averaging of Gauss-point values: in each element the 2×2 Gauss values are
+/// extrapolated bilinearly to the corners (the Gauss points form a "sub-element" with
+/// natural coordinates ξ' = √3 ξ, so corner a gets Σ_g N_g(√3 ξ_a, √3 η_a) σ_g;
+/// Cook et al. 2002, stress extrapolation), then each node takes the plain mean over
+/// its elements. Exact for any field that is bilinear in (ξ, η) inside an element, in
+/// particular for constant stress.
+pub fn nodal_average(mesh: &Mesh, gauss: &[[Sym; 4]]) -> Vec<Sym> {
+    let s3 = 3.0f64.sqrt();
+    let weights = element::CORNERS.map(|[xi, eta]| element::shape(s3 * xi, s3 * eta));
+    let mut sum = vec![Sym::ZERO; mesh.n_nodes()];
+    let mut count = vec![0u32; mesh.n_nodes()];
+    for (conn, g) in mesh.elements.iter().zip(gauss) {
+        for (k, &a) in conn.iter().enumerate() {
+            let v = (0..4).fold(Sym::ZERO, |s, q| s.add(&g[q].scale(weights[k][q])));
+            sum[a] = sum[a].add(&v);
+            count[a] += 1;
+        }
+    }
+    sum.iter().zip(&count).map(|(s, &c)| if c > 0 { s.scale(1.0 / c as f64) } else { Sym::ZERO }).collect()
+}
