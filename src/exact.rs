@@ -16,48 +16,42 @@
 //! which is correctly rounded for finite inputs. With a few terms per node the
 //! expansion holds one to three partials, so an addition costs a handful of flops.
 
-/// Maximum number of non-overlapping partials. A sum of finite f64 needs at most about
-/// 40 (2098 exponent bits / 53 mantissa bits); 64 leaves room.
-const MAX_PARTIALS: usize = 64;
-
 /// An exact accumulator: add terms in any order, read the correctly rounded sum.
-#[derive(Clone, Debug)]
+///
+/// The partials live in a `Vec` that grows as needed: non-overlapping partials need not
+/// use 53 bits each, so terms spread over many binades (velocities decaying ahead of a
+/// wave front, say) can need hundreds of them. Accumulators are reused with
+/// [`ExactSum::clear`], which keeps the allocation, so the hot loops allocate once.
+#[derive(Clone, Debug, Default)]
 pub struct ExactSum {
-    len: usize,
-    partials: [f64; MAX_PARTIALS],
-}
-
-impl Default for ExactSum {
-    fn default() -> Self {
-        Self::new()
-    }
+    partials: Vec<f64>,
+    /// Sum of the non-finite terms (0 when there are none): a NaN or infinity poisons the
+    /// result visibly, and the checked mode reports it.
+    special: f64,
 }
 
 impl ExactSum {
     #[inline]
     pub fn new() -> Self {
-        ExactSum { len: 0, partials: [0.0; MAX_PARTIALS] }
+        ExactSum { partials: Vec::with_capacity(8), special: 0.0 }
     }
 
-    /// Forget all terms (cheap: no memory is cleared), so one accumulator serves many sums.
+    /// Forget all terms (cheap: the allocation is kept), so one accumulator serves many sums.
     #[inline]
     pub fn clear(&mut self) {
-        self.len = 0;
+        self.partials.clear();
+        self.special = 0.0;
     }
 
-    /// Add one finite term. Non-finite terms poison the sum (checked mode reports them).
+    /// Add one term.
     #[inline]
     pub fn add(&mut self, mut x: f64) {
         if !x.is_finite() {
-            // Keep the poison visible: a single NaN/inf partial makes value() non-finite.
-            self.partials[0] = x + self.partials[0];
-            if self.len == 0 {
-                self.len = 1;
-            }
+            self.special += x;
             return;
         }
         let mut i = 0;
-        for j in 0..self.len {
+        for j in 0..self.partials.len() {
             let mut y = self.partials[j];
             if x.abs() < y.abs() {
                 std::mem::swap(&mut x, &mut y);
@@ -70,15 +64,17 @@ impl ExactSum {
             }
             x = hi;
         }
-        // i < MAX_PARTIALS always for finite inputs (see MAX_PARTIALS).
-        self.partials[i] = x;
-        self.len = i + 1;
+        self.partials.truncate(i);
+        self.partials.push(x);
     }
 
     /// The correctly rounded sum of all terms added so far.
     #[inline]
     pub fn value(&self) -> f64 {
-        let p = &self.partials[..self.len];
+        if self.special != 0.0 || self.special.is_nan() {
+            return self.special;
+        }
+        let p = &self.partials[..];
         let mut n = p.len();
         if n == 0 {
             return 0.0;
@@ -184,6 +180,26 @@ mod tests {
             let reference = acc as f64 * 2f64.powi(-30); // i128 → f64 is correctly rounded
             assert_eq!(sum(&terms).to_bits(), reference.to_bits());
         }
+    }
+
+    #[test]
+    fn terms_over_many_binades_need_many_partials() {
+        // Found by the impact test: geometrically decaying terms need > 64 partials.
+        let mut s = ExactSum::new();
+        let mut terms = Vec::new();
+        for k in (0..200).rev() {
+            s.add(3f64.powi(-k));
+            terms.push(3f64.powi(-k));
+        }
+        terms.reverse();
+        assert_eq!(s.value().to_bits(), sum(&terms).to_bits());
+        assert_eq!(s.value(), 1.5); // Σ 3^-k = 1.5 to within far less than an ulp
+    }
+
+    #[test]
+    fn non_finite_terms_poison_the_sum() {
+        assert!(sum(&[1.0, f64::NAN, 2.0]).is_nan());
+        assert_eq!(sum(&[1.0, f64::INFINITY]), f64::INFINITY);
     }
 
     #[test]

@@ -32,12 +32,19 @@ pub struct Weights {
     pub g: [Vector; MAX_NODES],
 }
 
-/// 1D linear hat: value and derivative at signed distance xi, cell size h.
+/// 1D linear hat: value and derivative at signed distance xi, cell size h. At the kink
+/// (a particle exactly on the node) the derivative is the average of the one-sided
+/// ones, 0, so the gradients still sum to zero over the nodes with non-zero weight
+/// (the neighbours, at distance h, have zero weight and are dropped) and a mirrored
+/// particle still gets mirrored bits.
 #[inline]
 fn linear_1d(xi: f64, h: f64) -> (f64, f64) {
     let a = xi.abs();
     if a >= h {
         return (0.0, 0.0);
+    }
+    if a == 0.0 {
+        return (1.0, 0.0);
     }
     let sgn = if xi < 0.0 { -1.0 } else { 1.0 };
     (1.0 - a / h, -sgn / h)

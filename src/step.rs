@@ -17,6 +17,8 @@ impl Simulation {
     pub fn step(&mut self) -> Result<(), CheckError> {
         let dt = self.options.dt;
         let scheme = self.options.scheme;
+        // Steps are numbered from 1; every check inside this step reports this number.
+        self.step_count += 1;
         self.apply_loads(self.time);
         if self.options.checked && self.momentum_conserving {
             self.momentum_ref = self.total_momentum();
@@ -54,7 +56,6 @@ impl Simulation {
         self.task7_move_cracks();
         // Task 8: all information is back on the particles.
         self.time += dt;
-        self.step_count += 1;
         if self.options.checked {
             self.check_after_step()?;
             if self.has_cracks() {
@@ -364,7 +365,7 @@ impl Simulation {
             let after = self.nodal_momentum_total();
             let scale = self.force_scale() * dt + self.nodal_momentum_scale();
             let tol = MOMENTUM_TOL * scale.max(f64::MIN_POSITIVE);
-            if (after - before).norm() > tol {
+            if !((after - before).norm() <= tol) {
                 return Err(CheckError::Momentum {
                     step: self.step_count,
                     stage: "task 4 (nodal momentum update)",
@@ -562,7 +563,7 @@ impl Simulation {
             let before = self.momentum_ref;
             let scale = crate::exact::sum_iter((0..p.len()).map(|i| p.mass[i] * p.v[i].abs().sum()));
             let tol = MOMENTUM_TOL * scale.max(f64::MIN_POSITIVE);
-            if (now - before).norm() > tol {
+            if !((now - before).norm() <= tol) {
                 return Err(CheckError::Momentum {
                     step,
                     stage: "particle update (Task 5)",
