@@ -286,3 +286,13 @@ fn binary_runs_the_base_scene() {
     assert!(dir.join("out").join("summary.json").exists());
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// The annotated example of docs/scene.md is a valid scene (keeps the docs honest).
+#[test]
+fn docs_example_scene_is_valid() {
+    let doc = include_str!("../docs/scene.md");
+    let start = doc.find("```toml").expect("example block") + "```toml".len();
+    let end = start + doc[start..].find("```").expect("end of block");
+    let s = Scene::from_toml(&doc[start..end], "docs/scene.md").unwrap();
+    s.build().unwrap();
+}
