@@ -1,0 +1,298 @@
+//! Bad scenes are rejected with an error that names the offending field (the scene's
+//! contract in src/scene.rs: parsing rejects unknown fields and wrong types with the
+//! toml error naming the key; `validate` and `build` reject physically meaningless
+//! values with the field's path). Reference: the schema itself; no tolerance involved.
+//! Each case starts from a valid base scene and changes one thing, so the error can
+//! only come from that change (the base scene is checked to build).
+//!
+//! The `cramp run` binary must turn the same errors into a non-zero exit status and a
+//! message on stderr naming the field, without panicking.
+
+use cramp::scene::{Scene, SceneError};
+use std::path::PathBuf;
+use std::process::Command;
+
+const BASE: &str = r#"
+title = "base"
+[grid]
+origin = [0.0, 0.0]
+size = [1.0, 1.0]
+cell = [0.1, 0.1]
+
+[solver]
+scheme = "usavg"
+shape = "ugimp"
+cfl = 0.5
+end_time = 0.01
+particles_per_cell = 2
+
+[[materials]]
+name = "steel"
+E = 1000.0
+nu = 0.3
+rho = 1.0
+state = "plane_strain"
+
+[[bodies]]
+material = "steel"
+shape = { rectangle = { min = [0.2, 0.2], max = [0.8, 0.6] } }
+
+[[boundary]]
+nodes = { line = { from = [0.2, 0.2], to = [0.8, 0.2] } }
+vy = 0.0
+
+[[loads]]
+particles = { region = { min = [0.2, 0.55], max = [0.8, 0.6] } }
+force = [0.0, -1.0]
+"#;
+
+/// Replace `from` (which must occur exactly once) by `to` in the base scene.
+fn edit(from: &str, to: &str) -> String {
+    assert_eq!(BASE.matches(from).count(), 1, "edit anchor {from:?} must occur once");
+    BASE.replace(from, to)
+}
+
+/// Parse, validate and build; return the first error.
+fn error_of(text: &str) -> SceneError {
+    match Scene::from_toml(text, "bad.toml") {
+        Err(e) => e,
+        Ok(s) => match s.build() {
+            Err(e) => e,
+            Ok(_) => panic!("scene was accepted:\n{text}"),
+        },
+    }
+}
+
+fn expect(text: &str, needles: &[&str]) {
+    let e = error_of(text);
+    let msg = e.to_string();
+    for n in needles {
+        assert!(msg.contains(n), "error message does not contain {n:?}:\n{msg}");
+    }
+}
+
+fn invalid_field(text: &str) -> String {
+    match error_of(text) {
+        SceneError::Invalid { field, .. } => field,
+        e => panic!("expected SceneError::Invalid, got {e}"),
+    }
+}
+
+#[test]
+fn base_scene_is_valid() {
+    let s = Scene::from_toml(BASE, "base").unwrap();
+    s.build().unwrap();
+}
+
+#[test]
+fn unknown_field() {
+    expect(&edit("cfl = 0.5", "cfl = 0.5\nsubsteps = 3"), &["bad.toml", "unknown field `substeps`"]);
+    expect(&edit("nu = 0.3", "nu = 0.3\nyield = 3.0"), &["unknown field `yield`"]);
+}
+
+#[test]
+fn wrong_type() {
+    expect(&edit("E = 1000.0", "E = \"stiff\""), &["bad.toml", "E = \"stiff\"", "invalid type"]);
+    expect(&edit("particles_per_cell = 2", "particles_per_cell = 2.5"), &["particles_per_cell"]);
+    expect(&edit("scheme = \"usavg\"", "scheme = \"leapfrog\""), &["scheme", "leapfrog"]);
+}
+
+#[test]
+fn missing_required_field() {
+    expect(&edit("end_time = 0.01\n", ""), &["missing field `end_time`"]);
+}
+
+#[test]
+fn negative_modulus() {
+    assert_eq!(invalid_field(&edit("E = 1000.0", "E = -1000.0")), "materials[0].E");
+    expect(&edit("E = 1000.0", "E = -1000.0"), &["scene field `materials[0].E`", "must be positive"]);
+    assert_eq!(invalid_field(&edit("E = 1000.0", "E = nan")), "materials[0].E");
+    assert_eq!(invalid_field(&edit("rho = 1.0", "rho = 0.0")), "materials[0].rho");
+}
+
+#[test]
+fn poisson_ratio_at_or_above_one_half() {
+    assert_eq!(invalid_field(&edit("nu = 0.3", "nu = 0.5")), "materials[0].nu");
+    assert_eq!(invalid_field(&edit("nu = 0.3", "nu = 0.7")), "materials[0].nu");
+    assert_eq!(invalid_field(&edit("nu = 0.3", "nu = -1.0")), "materials[0].nu");
+}
+
+#[test]
+fn body_outside_grid() {
+    let t = edit("min = [0.2, 0.2], max = [0.8, 0.6]", "min = [0.2, 0.2], max = [1.2, 0.6]");
+    assert_eq!(invalid_field(&t), "bodies[0].shape");
+    expect(&t, &["extends outside the grid"]);
+    let t = edit("shape = { rectangle = { min = [0.2, 0.2], max = [0.8, 0.6] } }", "shape = { disk = { center = [0.5, 0.5], radius = 0.55 } }");
+    assert_eq!(invalid_field(&t), "bodies[0].shape");
+}
+
+#[test]
+fn empty_body() {
+    // A sliver between two rows of particle positions (positions at 0.025 + 0.05 k).
+    let t = edit("shape = { rectangle = { min = [0.2, 0.2], max = [0.8, 0.6] } }", "shape = { rectangle = { min = [0.2, 0.301], max = [0.8, 0.32] } }");
+    // The load and boundary must not fail first: the body check comes before them.
+    assert_eq!(invalid_field(&t), "bodies[0].shape");
+    expect(&t, &["empty body"]);
+    let t = edit("min = [0.2, 0.2], max = [0.8, 0.6]", "min = [0.2, 0.2], max = [0.2, 0.6]");
+    assert_eq!(invalid_field(&t), "bodies[0].shape.rectangle");
+}
+
+#[test]
+fn zero_cells_and_fractional_cells() {
+    assert_eq!(invalid_field(&edit("cell = [0.1, 0.1]", "cell = [0.0, 0.1]")), "grid.cell[0]");
+    assert_eq!(invalid_field(&edit("size = [1.0, 1.0]", "size = [1.0, 0.0]")), "grid.size[1]");
+    let t = edit("cell = [0.1, 0.1]", "cell = [0.1, 0.3]");
+    assert_eq!(invalid_field(&t), "grid.size[1]");
+    expect(&t, &["not a whole number of cells"]);
+    assert_eq!(invalid_field(&edit("cell = [0.1, 0.1]", "cell = [2.0, 0.1]")), "grid.size[0]");
+}
+
+#[test]
+fn missing_file() {
+    let path = PathBuf::from("/nonexistent/dir/scene.toml");
+    let e = Scene::from_file(&path).unwrap_err();
+    assert!(matches!(e, SceneError::Io { .. }), "{e:?}");
+    assert!(e.to_string().contains("/nonexistent/dir/scene.toml"), "{e}");
+}
+
+#[test]
+fn material_name_not_found() {
+    let t = edit("material = \"steel\"", "material = \"stele\"");
+    assert_eq!(invalid_field(&t), "bodies[0].material");
+    expect(&t, &["no material named 'stele'"]);
+    let t = edit("[[bodies]]", "[[materials]]\nname = \"steel\"\nE = 1.0\nnu = 0.2\nrho = 1.0\nstate = \"plane_stress\"\n\n[[bodies]]");
+    assert_eq!(invalid_field(&t), "materials[1].name");
+}
+
+#[test]
+fn bad_cfl_and_time_step() {
+    assert_eq!(invalid_field(&edit("cfl = 0.5", "cfl = 1.5")), "solver.cfl");
+    assert_eq!(invalid_field(&edit("cfl = 0.5", "cfl = 0.0")), "solver.cfl");
+    assert_eq!(invalid_field(&edit("cfl = 0.5", "cfl = -0.5")), "solver.cfl");
+    assert_eq!(invalid_field(&edit("cfl = 0.5", "dt = -1e-3")), "solver.dt");
+    assert_eq!(invalid_field(&edit("end_time = 0.01", "end_time = 0.0")), "solver.end_time");
+    assert_eq!(invalid_field(&edit("particles_per_cell = 2", "particles_per_cell = 0")), "solver.particles_per_cell");
+    assert_eq!(invalid_field(&edit("particles_per_cell = 2", "particles_per_cell = 9")), "solver.particles_per_cell");
+    assert_eq!(invalid_field(&edit("cfl = 0.5", "cfl = 0.5\ndamping = -1.0")), "solver.damping");
+}
+
+#[test]
+fn crack_with_one_point() {
+    let t = format!("{BASE}\n[[cracks]]\npoints = [[0.5, 0.4]]\n");
+    assert_eq!(invalid_field(&t), "cracks[0].points");
+    let t = format!("{BASE}\n[[cracks]]\npoints = [[0.1, 0.4], [0.5, 0.4]]\nv_sep = 1.2\n");
+    assert_eq!(invalid_field(&t), "cracks[0].v_sep");
+    let t = format!("{BASE}\n[[cracks]]\npoints = [[0.1, 0.4], [0.5, 0.4]]\ncontact = {{ friction = {{ mu = -0.1 }} }}\n");
+    assert_eq!(invalid_field(&t), "cracks[0].contact.friction.mu");
+}
+
+#[test]
+fn load_selecting_no_particles() {
+    let t = edit("particles = { region = { min = [0.2, 0.55], max = [0.8, 0.6] } }", "particles = { region = { min = [0.85, 0.85], max = [0.9, 0.9] } }");
+    assert_eq!(invalid_field(&t), "loads[0].particles");
+    expect(&t, &["selects no particles"]);
+    assert_eq!(invalid_field(&edit("force = [0.0, -1.0]", "force = [inf, -1.0]")), "loads[0].force[0]");
+    assert_eq!(invalid_field(&edit("force = [0.0, -1.0]", "force = [0.0, -1.0]\nramp = -1.0")), "loads[0].ramp");
+}
+
+#[test]
+fn overlapping_loads() {
+    let t = format!("{BASE}\n[[loads]]\nparticles = {{ region = {{ min = [0.2, 0.2], max = [0.8, 0.6] }} }}\nforce = [1.0, 0.0]\n");
+    assert_eq!(invalid_field(&t), "loads[1].particles");
+}
+
+#[test]
+fn boundary_selecting_no_nodes_or_fixing_nothing() {
+    // Between node lines (0.1 spacing, lines select within a quarter cell).
+    let t = edit("nodes = { line = { from = [0.2, 0.2], to = [0.8, 0.2] } }", "nodes = { line = { from = [0.15, 0.15], to = [0.15, 0.15] } }");
+    assert_eq!(invalid_field(&t), "boundary[0].nodes");
+    expect(&t, &["selects no grid nodes"]);
+    assert_eq!(invalid_field(&edit("vy = 0.0\n", "")), "boundary[0]");
+}
+
+#[test]
+fn polygon_with_two_points() {
+    let t = edit("shape = { rectangle = { min = [0.2, 0.2], max = [0.8, 0.6] } }", "shape = { polygon = { points = [[0.2, 0.2], [0.8, 0.6]] } }");
+    assert_eq!(invalid_field(&t), "bodies[0].shape.polygon.points");
+}
+
+#[test]
+fn no_materials_or_bodies() {
+    let t = edit("[[bodies]]\nmaterial = \"steel\"\nshape = { rectangle = { min = [0.2, 0.2], max = [0.8, 0.6] } }\n", "bodies = []\n");
+    // `bodies = []` after [[materials]] would belong to that table; put it at the top instead.
+    let t = t.replace("bodies = []\n", "");
+    let t = t.replacen("title = \"base\"", "title = \"base\"\nbodies = []", 1);
+    assert_eq!(invalid_field(&t), "bodies");
+}
+
+// ---- the binary -------------------------------------------------------------------
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cramp-bad-scenes-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run_binary(scene_text: Option<&str>, name: &str) -> (std::process::ExitStatus, String, PathBuf) {
+    let dir = temp_dir(name);
+    let scene = dir.join(format!("{name}.toml"));
+    if let Some(t) = scene_text {
+        std::fs::write(&scene, t).unwrap();
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_cramp"))
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .expect("run cramp");
+    (out.status, String::from_utf8_lossy(&out.stderr).into_owned(), dir)
+}
+
+#[test]
+fn binary_reports_bad_scenes_without_panicking() {
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        ("negative_modulus", edit("E = 1000.0", "E = -1000.0"), vec!["materials[0].E"]),
+        ("unknown_field", edit("cfl = 0.5", "cfl = 0.5\nsubsteps = 3"), vec!["unknown field `substeps`"]),
+        ("nu_half", edit("nu = 0.3", "nu = 0.5"), vec!["materials[0].nu"]),
+        ("outside", edit("min = [0.2, 0.2], max = [0.8, 0.6]", "min = [0.2, 0.2], max = [1.2, 0.6]"), vec!["bodies[0].shape"]),
+        (
+            "no_nodes",
+            edit("nodes = { line = { from = [0.2, 0.2], to = [0.8, 0.2] } }", "nodes = { line = { from = [0.15, 0.15], to = [0.15, 0.15] } }"),
+            vec!["boundary[0].nodes"],
+        ),
+    ];
+    for (name, text, needles) in &cases {
+        let (status, stderr, dir) = run_binary(Some(text), name);
+        assert!(!status.success(), "{name}: cramp run succeeded");
+        assert!(!stderr.contains("panicked"), "{name}: cramp panicked:\n{stderr}");
+        for n in needles {
+            assert!(stderr.contains(n), "{name}: stderr does not name {n:?}:\n{stderr}");
+        }
+        std::fs::remove_dir_all(dir).ok();
+    }
+    let (status, stderr, dir) = run_binary(None, "missing_file");
+    assert!(!status.success());
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("missing_file.toml") && stderr.contains("cannot read scene file"), "{stderr}");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn binary_runs_the_base_scene() {
+    let (status, stderr, dir) = run_binary(Some(BASE), "good");
+    assert!(status.success(), "{stderr}");
+    assert!(dir.join("out").join("history.csv").exists());
+    assert!(dir.join("out").join("summary.json").exists());
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// The annotated example of docs/scene.md is a valid scene (keeps the docs honest).
+#[test]
+fn docs_example_scene_is_valid() {
+    let doc = include_str!("../docs/scene.md");
+    let start = doc.find("```toml").expect("example block") + "```toml".len();
+    let end = start + doc[start..].find("```").expect("end of block");
+    let s = Scene::from_toml(&doc[start..end], "docs/scene.md").unwrap();
+    s.build().unwrap();
+}
