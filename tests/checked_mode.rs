@@ -75,7 +75,7 @@ fn nan_velocity_is_caught_at_the_nodes_it_reaches() {
     let touched = nodes_of(&sim, p);
     match sim.step() {
         Err(CheckError::NonFiniteNode { step, node, what, .. }) => {
-            assert_eq!(step, 3);
+            assert_eq!(step, 4);
             assert_eq!(what, "momentum");
             assert!(touched.contains(&node), "node {node} is not one of particle {p}'s nodes {touched:?}");
         }
@@ -91,8 +91,8 @@ fn nan_stress_is_caught_at_the_particle() {
     match sim.step() {
         Err(e @ CheckError::NonFiniteParticle { .. }) => {
             let CheckError::NonFiniteParticle { step, particle, id, .. } = e.clone() else { unreachable!() };
-            // Note: end-of-step checks report the step count after the increment (3 for
-            // the third step taken here), in-step checks the count before it (2).
+            // Steps are numbered from 1 and every check reports the step being taken
+            // (the third here).
             assert_eq!((step, particle, id), (3, 0, 0), "{e}");
             assert!(e.to_string().contains("step 3") && e.to_string().contains("particle 0"), "{e}");
         }
@@ -109,7 +109,7 @@ fn particle_outside_the_grid_is_named() {
     match sim.step() {
         Err(e @ CheckError::OutsideGrid { .. }) => {
             let CheckError::OutsideGrid { step, particle, id: got, x, .. } = e.clone() else { unreachable!() };
-            assert_eq!((step, particle, got, x), (1, p, id, 1.2), "{e}");
+            assert_eq!((step, particle, got, x), (2, p, id, 1.2), "{e}");
         }
         other => panic!("expected OutsideGrid, got {other:?}"),
     }
@@ -129,7 +129,7 @@ fn negative_particle_mass_gives_non_positive_nodal_mass() {
     let touched = nodes_of(&sim, p);
     match sim.step() {
         Err(CheckError::NodalMass { step, node, field, mass }) => {
-            assert_eq!((step, field), (1, 0));
+            assert_eq!((step, field), (2, 0));
             assert!(mass <= 0.0);
             assert!(touched.contains(&node), "node {node} not in {touched:?}");
         }
@@ -145,7 +145,7 @@ fn broken_shape_functions_fail_partition_of_unity() {
     let p = 9;
     sim.particles.lp[p] = Vector::new(0.08, 0.08);
     match sim.step() {
-        Err(CheckError::PartitionOfUnity { step, particle, .. }) => assert_eq!((step, particle), (1, p)),
+        Err(CheckError::PartitionOfUnity { step, particle, .. }) => assert_eq!((step, particle), (2, p)),
         other => panic!("expected PartitionOfUnity, got {other:?}"),
     }
 }
@@ -160,7 +160,7 @@ fn unbalanced_force_in_a_scene_without_loads_breaks_momentum() {
     match sim.step() {
         Err(e @ CheckError::Momentum { .. }) => {
             let CheckError::Momentum { step, stage, .. } = e.clone() else { unreachable!() };
-            assert_eq!(step, 2);
+            assert_eq!(step, 3);
             assert!(stage.contains("task 4"), "{e}");
         }
         other => panic!("expected Momentum, got {other:?}"),
@@ -168,7 +168,7 @@ fn unbalanced_force_in_a_scene_without_loads_breaks_momentum() {
     // Same with a body force added after the build.
     let mut sim = block_after(2);
     sim.body_force[0] = Vector::new(0.0, -9.81e-3);
-    assert!(matches!(sim.step(), Err(CheckError::Momentum { step: 2, .. })));
+    assert!(matches!(sim.step(), Err(CheckError::Momentum { step: 3, .. })));
 }
 
 #[test]

@@ -22,17 +22,10 @@
 //! observations (USL poor/unstable, MUSL slowly dissipating, USF slowly gaining) are
 //! qualitative.
 //!
-//! Known src bug worked around here (reported, not fixed in this branch): this scene
-//! makes `cramp::exact::ExactSum::add` panic (index out of bounds, src/exact.rs:74)
-//! after ~20 steps. Ahead of the stress wave the particle velocities decay
-//! geometrically (1e-120 … 1e-2), and the Shewchuk/msum partials of such terms exceed
-//! the fixed MAX_PARTIALS = 64 (the "at most about 40" bound in the comment is wrong:
-//! non-overlapping partials need not use 53 bits each). Minimal reproduction:
-//! `let mut s = ExactSum::new(); for k in (0..200).rev() { s.add(3f64.powi(-k)); }`.
-//! Every `energies()` / `total_momentum()` call and the checked mode hit it, so this
-//! test runs unchecked and sums energies and momenta itself with Neumaier-compensated
-//! sums (relative error ~1e-16, ample for a 0.5 % energy bound and a 1e-12 momentum
-//! bound). When the bug is fixed, switch to `energies()` and checked mode.
+//! The run is checked (every invariant every step). Energies and momenta are summed here
+//! with Neumaier-compensated sums (relative error ~1e-16, ample for a 0.5 % energy bound
+//! and a 1e-12 momentum bound); this scene first exposed, and now guards, the ExactSum
+//! fix for terms spread over hundreds of binades (velocities decaying ahead of the wave).
 
 use cramp::material::Constitutive;
 use cramp::scene::Scene;
@@ -113,7 +106,7 @@ fn usavg_conserves_energy_through_transverse_impact() {
     for scheme in ["usavg", "musl", "usf", "usl"] {
         let scene = impact_scene(scheme, end, 2.0);
         let mut sim = scene.build().unwrap();
-        sim.options.checked = false; // see the module comment (ExactSum bug)
+        sim.options.checked = true;
         let e0 = total_energy(&sim);
         let p0 = momentum(&sim);
         let disk_ke = |s: &Simulation| -> f64 {
