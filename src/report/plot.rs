@@ -38,6 +38,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use anyhow::{anyhow, ensure, Context, Result};
+use plotters::coord::combinators::{BindKeyPoints, LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
@@ -330,8 +331,7 @@ pub fn loglog_convergence(
     let y_range = log_range(ys, spec.y_range)?;
 
     let root = open_canvas(path.as_ref(), spec)?;
-    let mut chart = chart_builder(&root, spec)
-        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+    let mut chart = chart_builder(&root, spec).build_cartesian_2d(log_axis(&x_range), log_axis(&y_range))?;
     draw_mesh(&mut chart, spec, &|x| format_tick(*x), &|y| format_tick(*y))?;
 
     let mut sorted = points.to_vec();
@@ -354,12 +354,15 @@ pub fn pareto_plot(
     check_points("runs", &xy, Axes::LogLog)?;
     let front: Vec<(f64, f64)> = pareto_front(points).into_iter().map(|i| xy[i]).collect();
 
-    let x_range = log_range(xy.iter().map(|p| p.0), spec.x_range)?;
+    let mut x_range = log_range(xy.iter().map(|p| p.0), spec.x_range)?;
+    if spec.x_range.is_none() {
+        // Room on the right for the label of the slowest run.
+        x_range.end *= (x_range.end / x_range.start).powf(0.12);
+    }
     let y_range = log_range(xy.iter().map(|p| p.1), spec.y_range)?;
 
     let root = open_canvas(path.as_ref(), spec)?;
-    let mut chart = chart_builder(&root, spec)
-        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+    let mut chart = chart_builder(&root, spec).build_cartesian_2d(log_axis(&x_range), log_axis(&y_range))?;
     draw_mesh(&mut chart, spec, &|x| format_tick(*x), &|y| format_tick(*y))?;
 
     // All runs: a blue dot with its label beside it.
@@ -570,6 +573,62 @@ fn log_range(values: impl Iterator<Item = f64>, fixed: Option<(f64, f64)>) -> Re
     Ok(lo / factor..hi * factor)
 }
 
+/// A logarithmic axis over `range` with ticks from [`log_ticks`].
+///
+/// plotters' own log ticks can repeat a decade (two "0.1" labels drawn on top of
+/// each other) and leave a two-decade axis with only two labels, so the ticks
+/// are chosen here.
+fn log_axis(range: &Range<f64>) -> WithKeyPoints<LogCoord<f64>> {
+    let (labelled, grid_only) = log_ticks(range.start, range.end);
+    range.clone().log_scale().with_key_points(labelled).with_light_points(grid_only)
+}
+
+/// Tick values for a log axis over `[lo, hi]`: (labelled ticks, unlabelled grid
+/// lines). Ticks are m·10^k with the mantissas m chosen by how many decades the
+/// axis spans: 1 only (every few decades on very long axes); 1, 2, 5; or 1…9.
+/// Each tick is parsed from its decimal text, so it is the double nearest to
+/// m·10^k (0.3, not 0.30000000000000004).
+fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let decades = (hi / lo).log10();
+    let (labelled_mantissas, decade_stride): (&[f64], i32) = if decades > 8.0 {
+        (&[1.0], (decades / 8.0).ceil() as i32)
+    } else if decades > 3.5 {
+        (&[1.0], 1)
+    } else if decades > 1.5 {
+        (&[1.0, 2.0, 5.0], 1)
+    } else if decades > 0.6 {
+        (&[1.0, 2.0, 3.0, 5.0], 1)
+    } else {
+        (&[1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], 1)
+    };
+    let grid_mantissas: &[f64] = if decades > 3.5 { &[] } else { &[2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0] };
+
+    let in_range = |x: &f64| (lo..=hi).contains(x);
+    let value = |m: f64, k: i32| -> f64 { format!("{m}e{k}").parse().expect("a decimal literal") };
+    let (k_lo, k_hi) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let mut labelled = Vec::new();
+    let mut grid_only = Vec::new();
+    for k in k_lo..=k_hi {
+        for &m in labelled_mantissas {
+            if m != 1.0 || k.rem_euclid(decade_stride) == 0 {
+                labelled.push(value(m, k));
+            }
+        }
+        for &m in grid_mantissas {
+            if !labelled_mantissas.contains(&m) {
+                grid_only.push(value(m, k));
+            }
+        }
+    }
+    labelled.retain(in_range);
+    grid_only.retain(in_range);
+    if labelled.len() < 2 {
+        // A very narrow axis (e.g. 2.1 to 2.4): label its ends.
+        labelled = vec![lo, hi];
+    }
+    (labelled, grid_only)
+}
+
 fn min_max(values: impl Iterator<Item = f64>) -> Result<(f64, f64)> {
     values
         .fold(None, |acc: Option<(f64, f64)>, v| match acc {
@@ -673,6 +732,22 @@ mod tests {
         let around_zero = linear_tick_formatter(&(-1.0..1.0));
         assert_eq!(around_zero(&5.551115123125783e-17), "0");
         assert_eq!(around_zero(&0.6000000000000001), "0.6");
+    }
+
+    #[test]
+    fn log_ticks_are_exact_unique_and_readable() {
+        let (labelled, grid) = log_ticks(0.0085, 0.13);
+        assert_eq!(labelled, vec![0.01, 0.02, 0.03, 0.05, 0.1]);
+        assert!(grid.contains(&0.04) && grid.contains(&0.09) && !grid.contains(&0.05));
+        let (labelled, _) = log_ticks(1.2e-4, 1.1e-2);
+        assert_eq!(labelled, vec![2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2]);
+        let (labelled, grid) = log_ticks(1e-12, 1.0);
+        assert_eq!(labelled, vec![1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 1.0]);
+        assert!(grid.is_empty());
+        let (labelled, _) = log_ticks(2.1, 2.4);
+        assert_eq!(labelled, vec![2.1, 2.4]);
+        let (labelled, _) = log_ticks(0.25, 0.7);
+        assert_eq!(labelled, vec![0.25, 0.3, 0.4, 0.5, 0.6, 0.7]);
     }
 
     #[test]
