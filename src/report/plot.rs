@@ -158,12 +158,22 @@ pub struct Series {
 impl Series {
     /// A coloured line.
     pub fn line(name: &str, points: Vec<(f64, f64)>) -> Self {
-        Series { name: name.to_string(), points, markers: false, reference: false }
+        Series {
+            name: name.to_string(),
+            points,
+            markers: false,
+            reference: false,
+        }
     }
 
     /// A dashed black reference curve.
     pub fn reference(name: &str, points: Vec<(f64, f64)>) -> Self {
-        Series { name: name.to_string(), points, markers: false, reference: true }
+        Series {
+            name: name.to_string(),
+            points,
+            markers: false,
+            reference: true,
+        }
     }
 
     /// The same series with a marker at every point.
@@ -224,7 +234,10 @@ pub fn pareto_front<L>(points: &[(f64, f64, L)]) -> Vec<usize> {
         .filter(|&i| !(0..points.len()).any(|j| finite(j) && dominates(j, i)))
         .collect();
     front.sort_by(|&a, &b| {
-        (points[a].0, points[a].1).partial_cmp(&(points[b].0, points[b].1)).unwrap().then(a.cmp(&b))
+        (points[a].0, points[a].1)
+            .partial_cmp(&(points[b].0, points[b].1))
+            .unwrap()
+            .then(a.cmp(&b))
     });
     front
 }
@@ -272,7 +285,13 @@ fn linear_tick_formatter(range: &Range<f64>) -> impl Fn(&f64) -> String {
     let magnitude = range.start.abs().max(range.end.abs());
     let extra = (magnitude.log10().floor() - span.log10().floor()).max(0.0) as usize;
     let sig = (2 + extra).clamp(3, 15);
-    move |&x| if x.abs() < span * 1e-9 { "0".to_string() } else { format_sig(x, sig) }
+    move |&x| {
+        if x.abs() < span * 1e-9 {
+            "0".to_string()
+        } else {
+            format_sig(x, sig)
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -282,7 +301,11 @@ fn linear_tick_formatter(range: &Range<f64>) -> impl Fn(&f64) -> String {
 /// Named x–y series on linear axes. Reference series are dashed black; the
 /// others take colours in order. The legend defaults to the upper right.
 pub fn line_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> Result<()> {
-    ensure!(!series.is_empty(), "line plot '{}' has no series", spec.title);
+    ensure!(
+        !series.is_empty(),
+        "line plot '{}' has no series",
+        spec.title
+    );
     for s in series {
         check_points(&s.name, &s.points, Axes::Linear)?;
     }
@@ -291,8 +314,14 @@ pub fn line_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> 
     let y_range = linear_range(all_points().map(|p| p.1), spec.y_range)?;
 
     let root = open_canvas(path.as_ref(), spec)?;
-    let mut chart = chart_builder(&root, spec).build_cartesian_2d(x_range.clone(), y_range.clone())?;
-    draw_mesh(&mut chart, spec, &linear_tick_formatter(&x_range), &linear_tick_formatter(&y_range))?;
+    let mut chart =
+        chart_builder(&root, spec).build_cartesian_2d(x_range.clone(), y_range.clone())?;
+    draw_mesh(
+        &mut chart,
+        spec,
+        &linear_tick_formatter(&x_range),
+        &linear_tick_formatter(&y_range),
+    )?;
 
     let mut colors = PALETTE.iter().cycle();
     for s in series {
@@ -303,8 +332,12 @@ pub fn line_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> 
             draw_line(&mut chart, &s.name, &s.points, color, s.markers)?;
         }
     }
-    draw_legend(&mut chart, spec.legend.unwrap_or(LegendPosition::UpperRight))?;
-    root.present().with_context(|| format!("writing {}", path.as_ref().display()))
+    draw_legend(
+        &mut chart,
+        spec.legend.unwrap_or(LegendPosition::UpperRight),
+    )?;
+    root.present()
+        .with_context(|| format!("writing {}", path.as_ref().display()))
 }
 
 /// Error versus cell size `(h, error)` on log–log axes, with the least-squares
@@ -331,15 +364,22 @@ pub fn loglog_convergence(
     let y_range = log_range(ys, spec.y_range)?;
 
     let root = open_canvas(path.as_ref(), spec)?;
-    let mut chart = chart_builder(&root, spec).build_cartesian_2d(log_axis(&x_range), log_axis(&y_range))?;
+    let mut chart =
+        chart_builder(&root, spec).build_cartesian_2d(log_axis(&x_range), log_axis(&y_range))?;
     draw_mesh(&mut chart, spec, &|x| format_tick(*x), &|y| format_tick(*y))?;
 
     let mut sorted = points.to_vec();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
     draw_line(&mut chart, label, &sorted, PALETTE[0], true)?;
-    draw_dashed(&mut chart, &format!("fitted order p = {p:.2}"), &fitted, BLACK)?;
+    draw_dashed(
+        &mut chart,
+        &format!("fitted order p = {p:.2}"),
+        &fitted,
+        BLACK,
+    )?;
     draw_legend(&mut chart, spec.legend.unwrap_or(LegendPosition::UpperLeft))?;
-    root.present().with_context(|| format!("writing {}", path.as_ref().display()))
+    root.present()
+        .with_context(|| format!("writing {}", path.as_ref().display()))
 }
 
 /// Run time versus error `(time, error, label)` on log–log axes: every run as a
@@ -362,12 +402,15 @@ pub fn pareto_plot(
     let y_range = log_range(xy.iter().map(|p| p.1), spec.y_range)?;
 
     let root = open_canvas(path.as_ref(), spec)?;
-    let mut chart = chart_builder(&root, spec).build_cartesian_2d(log_axis(&x_range), log_axis(&y_range))?;
+    let mut chart =
+        chart_builder(&root, spec).build_cartesian_2d(log_axis(&x_range), log_axis(&y_range))?;
     draw_mesh(&mut chart, spec, &|x| format_tick(*x), &|y| format_tick(*y))?;
 
     // All runs: a blue dot with its label beside it.
     let run_color = PALETTE[0];
-    let label_font = (FONT, POINT_LABEL_SIZE).into_font().color(&RGBColor(60, 60, 60));
+    let label_font = (FONT, POINT_LABEL_SIZE)
+        .into_font()
+        .color(&RGBColor(60, 60, 60));
     chart
         .draw_series(points.iter().map(|(t, e, label)| {
             EmptyElement::at((*t, *e))
@@ -386,8 +429,12 @@ pub fn pareto_plot(
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], front_style));
     chart.draw_series(front.iter().map(|&p| Circle::new(p, 8, front_style)))?;
 
-    draw_legend(&mut chart, spec.legend.unwrap_or(LegendPosition::UpperRight))?;
-    root.present().with_context(|| format!("writing {}", path.as_ref().display()))
+    draw_legend(
+        &mut chart,
+        spec.legend.unwrap_or(LegendPosition::UpperRight),
+    )?;
+    root.present()
+        .with_context(|| format!("writing {}", path.as_ref().display()))
 }
 
 // ---------------------------------------------------------------------------
@@ -395,7 +442,10 @@ pub fn pareto_plot(
 // ---------------------------------------------------------------------------
 
 /// The bundled font, compiled into the binary.
-static DEJAVU_SANS: &[u8] = include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/DejaVuSans.ttf"));
+static DEJAVU_SANS: &[u8] = include_bytes!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/DejaVuSans.ttf"
+));
 
 /// Register the bundled DejaVu Sans as the [`FONT`] family, once per process.
 /// Every plot function calls it; calling it again is free.
@@ -418,7 +468,9 @@ type Chart<'a, 'b, X, Y> = ChartContext<'a, BitMapBackend<'b>, Cartesian2d<X, Y>
 /// A white canvas of the spec's size that writes a PNG to `path` on `present()`.
 fn open_canvas<'a>(path: &'a Path, spec: &PlotSpec) -> Result<Canvas<'a>> {
     register_bundled_font()?;
-    let is_png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    let is_png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     ensure!(is_png, "plot file {} must end in .png", path.display());
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -429,7 +481,10 @@ fn open_canvas<'a>(path: &'a Path, spec: &PlotSpec) -> Result<Canvas<'a>> {
 }
 
 /// Title and room for the tick labels and axis descriptions.
-fn chart_builder<'a, 'b>(root: &'a Canvas<'b>, spec: &PlotSpec) -> ChartBuilder<'a, 'b, BitMapBackend<'b>> {
+fn chart_builder<'a, 'b>(
+    root: &'a Canvas<'b>,
+    spec: &PlotSpec,
+) -> ChartBuilder<'a, 'b, BitMapBackend<'b>> {
     let mut builder = ChartBuilder::on(root);
     builder
         .caption(&spec.title, (FONT, TITLE_SIZE))
@@ -543,29 +598,50 @@ enum Axes {
 fn check_points(name: &str, points: &[(f64, f64)], axes: Axes) -> Result<()> {
     ensure!(!points.is_empty(), "series '{name}' has no points");
     for (i, &(x, y)) in points.iter().enumerate() {
-        ensure!(x.is_finite() && y.is_finite(), "series '{name}' point {i} is not finite: ({x}, {y})");
+        ensure!(
+            x.is_finite() && y.is_finite(),
+            "series '{name}' point {i} is not finite: ({x}, {y})"
+        );
         if axes == Axes::LogLog {
-            ensure!(x > 0.0 && y > 0.0, "series '{name}' point {i} is not positive on log axes: ({x}, {y})");
+            ensure!(
+                x > 0.0 && y > 0.0,
+                "series '{name}' point {i} is not positive on log axes: ({x}, {y})"
+            );
         }
     }
     Ok(())
 }
 
 /// The fixed range if given, else the data range padded by 5 % on each side.
-fn linear_range(values: impl Iterator<Item = f64>, fixed: Option<(f64, f64)>) -> Result<Range<f64>> {
+fn linear_range(
+    values: impl Iterator<Item = f64>,
+    fixed: Option<(f64, f64)>,
+) -> Result<Range<f64>> {
     if let Some((lo, hi)) = fixed {
-        ensure!(lo.is_finite() && hi.is_finite() && lo < hi, "bad fixed axis range [{lo}, {hi}]");
+        ensure!(
+            lo.is_finite() && hi.is_finite() && lo < hi,
+            "bad fixed axis range [{lo}, {hi}]"
+        );
         return Ok(lo..hi);
     }
     let (lo, hi) = min_max(values)?;
-    let pad = if hi > lo { 0.05 * (hi - lo) } else if lo != 0.0 { 0.1 * lo.abs() } else { 1.0 };
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else if lo != 0.0 {
+        0.1 * lo.abs()
+    } else {
+        1.0
+    };
     Ok(lo - pad..hi + pad)
 }
 
 /// The fixed range if given, else the data range padded by a factor on each side.
 fn log_range(values: impl Iterator<Item = f64>, fixed: Option<(f64, f64)>) -> Result<Range<f64>> {
     if let Some((lo, hi)) = fixed {
-        ensure!(lo > 0.0 && hi.is_finite() && lo < hi, "bad fixed log axis range [{lo}, {hi}]");
+        ensure!(
+            lo > 0.0 && hi.is_finite() && lo < hi,
+            "bad fixed log axis range [{lo}, {hi}]"
+        );
         return Ok(lo..hi);
     }
     let (lo, hi) = min_max(values)?;
@@ -580,7 +656,11 @@ fn log_range(values: impl Iterator<Item = f64>, fixed: Option<(f64, f64)>) -> Re
 /// are chosen here.
 fn log_axis(range: &Range<f64>) -> WithKeyPoints<LogCoord<f64>> {
     let (labelled, grid_only) = log_ticks(range.start, range.end);
-    range.clone().log_scale().with_key_points(labelled).with_light_points(grid_only)
+    range
+        .clone()
+        .log_scale()
+        .with_key_points(labelled)
+        .with_light_points(grid_only)
 }
 
 /// Tick values for a log axis over `[lo, hi]`: (labelled ticks, unlabelled grid
@@ -601,7 +681,11 @@ fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     } else {
         (&[1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], 1)
     };
-    let grid_mantissas: &[f64] = if decades > 3.5 { &[] } else { &[2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0] };
+    let grid_mantissas: &[f64] = if decades > 3.5 {
+        &[]
+    } else {
+        &[2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+    };
 
     let in_range = |x: &f64| (lo..=hi).contains(x);
     let value = |m: f64, k: i32| -> f64 { format!("{m}e{k}").parse().expect("a decimal literal") };
@@ -656,17 +740,37 @@ mod tests {
     /// The PNG exists, starts with the PNG signature and is not a blank image.
     fn assert_png(path: &Path) {
         let bytes = std::fs::read(path).unwrap();
-        assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "{} is not a PNG", path.display());
-        assert!(bytes.len() > 15_000, "{} is only {} bytes", path.display(), bytes.len());
+        assert!(
+            bytes.starts_with(b"\x89PNG\r\n\x1a\n"),
+            "{} is not a PNG",
+            path.display()
+        );
+        assert!(
+            bytes.len() > 15_000,
+            "{} is only {} bytes",
+            path.display(),
+            bytes.len()
+        );
     }
 
     #[test]
     fn fit_order_recovers_exact_power_laws() {
-        for &(c, p) in &[(1.0, 1.0), (3.7, 2.0), (0.02, 1.5), (5.0, -0.5), (1e-3, 4.0)] {
-            let points: Vec<(f64, f64)> =
-                [0.1, 0.05, 0.025, 0.0125, 0.00625].iter().map(|&h: &f64| (h, c * h.powf(p))).collect();
+        for &(c, p) in &[
+            (1.0, 1.0),
+            (3.7, 2.0),
+            (0.02, 1.5),
+            (5.0, -0.5),
+            (1e-3, 4.0),
+        ] {
+            let points: Vec<(f64, f64)> = [0.1, 0.05, 0.025, 0.0125, 0.00625]
+                .iter()
+                .map(|&h: &f64| (h, c * h.powf(p)))
+                .collect();
             let fitted = fit_order(&points);
-            assert!((fitted - p).abs() < 1e-12, "c = {c}, p = {p}: fitted {fitted}");
+            assert!(
+                (fitted - p).abs() < 1e-12,
+                "c = {c}, p = {p}: fitted {fitted}"
+            );
         }
         // Two points give the exact slope; irregular spacing too.
         let two = [(1.0, 2.0), (4.0, 32.0)];
@@ -678,8 +782,11 @@ mod tests {
         // ln e = 2 ln h + noise, noise symmetric about the line: slope exactly 2 by symmetry.
         let hs = [1.0f64, 2.0, 4.0, 8.0];
         let noise = [0.1, -0.1, -0.1, 0.1];
-        let points: Vec<(f64, f64)> =
-            hs.iter().zip(noise).map(|(&h, n)| (h, (2.0 * h.ln() + n).exp())).collect();
+        let points: Vec<(f64, f64)> = hs
+            .iter()
+            .zip(noise)
+            .map(|(&h, n)| (h, (2.0 * h.ln() + n).exp()))
+            .collect();
         assert!((fit_order(&points) - 2.0).abs() < 1e-12);
     }
 
@@ -695,15 +802,15 @@ mod tests {
     #[test]
     fn pareto_front_keeps_the_non_dominated_points() {
         let points = [
-            (1.0, 10.0, "fast, coarse"),  // 0: front (fastest)
-            (2.0, 5.0, "a"),              // 1: front
-            (3.0, 6.0, "b"),              // 2: dominated by 1
-            (4.0, 1.0, "slow, fine"),     // 3: front (most accurate)
-            (4.0, 2.0, "c"),              // 4: dominated by 3 (same time, more error)
-            (0.5, 20.0, "fastest"),       // 5: front
-            (2.0, 5.0, "a again"),        // 6: equal to 1: both on the front
-            (f64::NAN, 0.1, "broken"),    // 7: non-finite: never on the front
-            (10.0, 1.0, "slower, same"),  // 8: dominated by 3 (same error, more time)
+            (1.0, 10.0, "fast, coarse"), // 0: front (fastest)
+            (2.0, 5.0, "a"),             // 1: front
+            (3.0, 6.0, "b"),             // 2: dominated by 1
+            (4.0, 1.0, "slow, fine"),    // 3: front (most accurate)
+            (4.0, 2.0, "c"),             // 4: dominated by 3 (same time, more error)
+            (0.5, 20.0, "fastest"),      // 5: front
+            (2.0, 5.0, "a again"),       // 6: equal to 1: both on the front
+            (f64::NAN, 0.1, "broken"),   // 7: non-finite: never on the front
+            (10.0, 1.0, "slower, same"), // 8: dominated by 3 (same error, more time)
         ];
         assert_eq!(pareto_front(&points), vec![5, 0, 1, 6, 3]);
         assert!(pareto_front::<()>(&[]).is_empty());
@@ -754,10 +861,19 @@ mod tests {
     fn line_plot_renders() {
         let dir = temp_dir("line");
         let xs: Vec<f64> = (0..=50).map(|i| i as f64 * 0.02).collect();
-        let exact: Vec<(f64, f64)> = xs.iter().map(|&x| (x, (std::f64::consts::PI * x).sin())).collect();
-        let mpm: Vec<(f64, f64)> =
-            xs.iter().step_by(5).map(|&x| (x, 0.97 * (std::f64::consts::PI * x).sin())).collect();
-        let fea: Vec<(f64, f64)> = xs.iter().map(|&x| (x, 1.02 * (std::f64::consts::PI * x).sin() - 0.05)).collect();
+        let exact: Vec<(f64, f64)> = xs
+            .iter()
+            .map(|&x| (x, (std::f64::consts::PI * x).sin()))
+            .collect();
+        let mpm: Vec<(f64, f64)> = xs
+            .iter()
+            .step_by(5)
+            .map(|&x| (x, 0.97 * (std::f64::consts::PI * x).sin()))
+            .collect();
+        let fea: Vec<(f64, f64)> = xs
+            .iter()
+            .map(|&x| (x, 1.02 * (std::f64::consts::PI * x).sin() - 0.05))
+            .collect();
         let spec = PlotSpec::new("Crack opening profile", "x / a", "opening / exact maximum");
         let path = dir.join("line.png");
         line_plot(
@@ -773,18 +889,31 @@ mod tests {
         assert_png(&path);
 
         // A fixed y range, a custom size, and a constant series (zero span).
-        let spec = PlotSpec::new("Fixed range", "t", "energy").with_y_range(-2.0, 2.0).with_size(600, 400);
+        let spec = PlotSpec::new("Fixed range", "t", "energy")
+            .with_y_range(-2.0, 2.0)
+            .with_size(600, 400);
         let flat = Series::line("flat", vec![(0.0, 1.0), (1.0, 1.0)]);
-        line_plot(dir.join("fixed.png"), &spec, &[flat.clone()]).unwrap();
-        line_plot(dir.join("flat.png"), &PlotSpec::new("Flat", "t", "e"), &[flat]).unwrap();
+        line_plot(dir.join("fixed.png"), &spec, std::slice::from_ref(&flat)).unwrap();
+        line_plot(
+            dir.join("flat.png"),
+            &PlotSpec::new("Flat", "t", "e"),
+            &[flat],
+        )
+        .unwrap();
     }
 
     #[test]
     fn convergence_plot_renders() {
         let dir = temp_dir("convergence");
-        let points: Vec<(f64, f64)> =
-            [0.1, 0.05, 0.025, 0.0125].iter().map(|&h: &f64| (h, 0.8 * h.powf(1.98))).collect();
-        let spec = PlotSpec::new("J-integral convergence", "cell size h", "relative error in J");
+        let points: Vec<(f64, f64)> = [0.1, 0.05, 0.025, 0.0125]
+            .iter()
+            .map(|&h: &f64| (h, 0.8 * h.powf(1.98)))
+            .collect();
+        let spec = PlotSpec::new(
+            "J-integral convergence",
+            "cell size h",
+            "relative error in J",
+        );
         let path = dir.join("convergence.png");
         loglog_convergence(&path, &spec, &points, "MPM, GIMP").unwrap();
         assert_png(&path);
@@ -800,7 +929,11 @@ mod tests {
             (7.5, 1e-3, "h=1/64 GIMP".to_string()),
             (9.0, 3e-3, "h=1/64 linear".to_string()),
         ];
-        let spec = PlotSpec::new("Cost versus accuracy", "run time [s]", "relative error in K_I");
+        let spec = PlotSpec::new(
+            "Cost versus accuracy",
+            "run time [s]",
+            "relative error in K_I",
+        );
         let path = dir.join("pareto.png");
         pareto_plot(&path, &spec, &points).unwrap();
         assert_png(&path);
@@ -814,7 +947,10 @@ mod tests {
         let err = line_plot(dir.join("nan.png"), &spec, &[nan]).unwrap_err();
         assert!(err.to_string().contains("broken"), "{err}");
         assert!(line_plot(dir.join("empty.png"), &spec, &[]).is_err());
-        assert!(loglog_convergence(dir.join("zero.png"), &spec, &[(0.1, 0.0), (0.2, 1.0)], "e").is_err());
+        assert!(
+            loglog_convergence(dir.join("zero.png"), &spec, &[(0.1, 0.0), (0.2, 1.0)], "e")
+                .is_err()
+        );
         assert!(loglog_convergence(dir.join("one.png"), &spec, &[(0.1, 1.0)], "e").is_err());
         let ok = Series::line("ok", vec![(0.0, 1.0), (1.0, 2.0)]);
         assert!(line_plot(dir.join("plot.svg"), &spec, &[ok]).is_err());
