@@ -509,6 +509,10 @@ where
         .configure_mesh()
         .x_desc(&spec.x_label)
         .y_desc(&spec.y_label)
+        // Ticks per axis from the image size, so small images are not crowded
+        // (ignored by log axes, which have their own ticks).
+        .x_labels((spec.size.0 / 90).clamp(3, 12) as usize)
+        .y_labels((spec.size.1 / 55).clamp(3, 12) as usize)
         .x_label_formatter(x_format)
         .y_label_formatter(y_format)
         .label_style((FONT, TICK_LABEL_SIZE))
