@@ -76,9 +76,10 @@ impl PointData<'_> {
     fn first_non_finite(&self) -> Option<(usize, &'static str)> {
         match self {
             PointData::Scalar(v) => v.iter().position(|x| !x.is_finite()).map(|i| (i, "value")),
-            PointData::Vector(v) => v.iter().enumerate().find_map(|(i, a)| {
-                first_bad(&[("x", a.x), ("y", a.y)]).map(|c| (i, c))
-            }),
+            PointData::Vector(v) => v
+                .iter()
+                .enumerate()
+                .find_map(|(i, a)| first_bad(&[("x", a.x), ("y", a.y)]).map(|c| (i, c))),
             PointData::Tensor(v) => v.iter().enumerate().find_map(|(i, s)| {
                 first_bad(&[("xx", s.xx), ("yy", s.yy), ("zz", s.zz), ("xy", s.xy)]).map(|c| (i, c))
             }),
@@ -225,7 +226,9 @@ pub fn write_polylines(
             )));
         }
         if let Some(i) = values.iter().position(|x| !x.is_finite()) {
-            return Err(invalid(format!("cell array '{name}' has a non-finite value at line {i}")));
+            return Err(invalid(format!(
+                "cell array '{name}' has a non-finite value at line {i}"
+            )));
         }
     }
 
@@ -280,7 +283,10 @@ fn invalid(message: String) -> io::Error {
 }
 
 fn first_bad(components: &[(&'static str, f64)]) -> Option<&'static str> {
-    components.iter().find(|(_, x)| !x.is_finite()).map(|(c, _)| *c)
+    components
+        .iter()
+        .find(|(_, x)| !x.is_finite())
+        .map(|(c, _)| *c)
 }
 
 fn check_title(title: &str) -> io::Result<()> {
@@ -288,13 +294,18 @@ fn check_title(title: &str) -> io::Result<()> {
         return Err(invalid("VTK title must be a single line".into()));
     }
     if title.len() > MAX_TITLE_LEN {
-        return Err(invalid(format!("VTK title is longer than {MAX_TITLE_LEN} bytes")));
+        return Err(invalid(format!(
+            "VTK title is longer than {MAX_TITLE_LEN} bytes"
+        )));
     }
     Ok(())
 }
 
 fn check_positions(points: &[Vector]) -> io::Result<()> {
-    match points.iter().position(|p| !(p.x.is_finite() && p.y.is_finite())) {
+    match points
+        .iter()
+        .position(|p| !(p.x.is_finite() && p.y.is_finite()))
+    {
         Some(i) => Err(invalid(format!("point {i} has a non-finite coordinate"))),
         None => Ok(()),
     }
@@ -304,7 +315,9 @@ fn check_names<'n>(names: impl Iterator<Item = &'n str>) -> io::Result<()> {
     let mut seen: Vec<&str> = Vec::new();
     for name in names {
         if name.is_empty() || name.chars().any(char::is_whitespace) {
-            return Err(invalid(format!("VTK array name '{name}' is empty or contains whitespace")));
+            return Err(invalid(format!(
+                "VTK array name '{name}' is empty or contains whitespace"
+            )));
         }
         if seen.contains(&name) {
             return Err(invalid(format!("VTK array name '{name}' is used twice")));
@@ -337,7 +350,9 @@ pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
     // 1. The four header lines.
     let mut lines = text.lines();
     let mut header_line = |expected: Option<&str>| -> anyhow::Result<String> {
-        let line = lines.next().ok_or_else(|| anyhow!("file ends inside the header"))?;
+        let line = lines
+            .next()
+            .ok_or_else(|| anyhow!("file ends inside the header"))?;
         if let Some(expected) = expected {
             if line.trim() != expected {
                 bail!("expected header line '{expected}', found '{line}'");
@@ -390,12 +405,12 @@ pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
                 tokens.expect("default")?;
                 PointArray::Scalar((0..n).map(|_| tokens.float()).collect::<Result<_, _>>()?)
             }
-            "VECTORS" => PointArray::Vector(
-                (0..n).map(|_| tokens.vector()).collect::<Result<_, _>>()?,
-            ),
-            "TENSORS" => PointArray::Tensor(
-                (0..n).map(|_| tokens.tensor()).collect::<Result<_, _>>()?,
-            ),
+            "VECTORS" => {
+                PointArray::Vector((0..n).map(|_| tokens.vector()).collect::<Result<_, _>>()?)
+            }
+            "TENSORS" => {
+                PointArray::Tensor((0..n).map(|_| tokens.tensor()).collect::<Result<_, _>>()?)
+            }
             other => bail!("line {}: unknown array kind '{other}'", tokens.line),
         };
         if arrays.iter().any(|(n, _)| *n == name) {
@@ -404,7 +419,11 @@ pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
         arrays.push((name, array));
     }
 
-    Ok(PointSnapshot { title, positions, arrays })
+    Ok(PointSnapshot {
+        title,
+        positions,
+        arrays,
+    })
 }
 
 /// Whitespace-separated tokens with the line they come from, for error messages.
@@ -420,7 +439,10 @@ impl<'t> Tokens<'t> {
             .enumerate()
             .flat_map(|(k, line)| line.split_whitespace().map(move |t| (first_line + k, t)))
             .collect();
-        Tokens { tokens: tokens.into_iter().peekable(), line: first_line }
+        Tokens {
+            tokens: tokens.into_iter().peekable(),
+            line: first_line,
+        }
     }
 
     fn peek(&mut self) -> Option<&'t str> {
@@ -434,7 +456,8 @@ impl<'t> Tokens<'t> {
     }
 
     fn word(&mut self) -> anyhow::Result<&'t str> {
-        self.next_token().ok_or_else(|| anyhow!("unexpected end of file after line {}", self.line))
+        self.next_token()
+            .ok_or_else(|| anyhow!("unexpected end of file after line {}", self.line))
     }
 
     fn expect(&mut self, expected: &str) -> anyhow::Result<()> {
@@ -448,7 +471,11 @@ impl<'t> Tokens<'t> {
     fn parse<T: std::str::FromStr>(&mut self) -> anyhow::Result<T> {
         let token = self.word()?;
         token.parse().map_err(|_| {
-            anyhow!("line {}: cannot parse '{token}' as {}", self.line, std::any::type_name::<T>())
+            anyhow!(
+                "line {}: cannot parse '{token}' as {}",
+                self.line,
+                std::any::type_name::<T>()
+            )
         })
     }
 
@@ -456,7 +483,10 @@ impl<'t> Tokens<'t> {
     fn float(&mut self) -> anyhow::Result<f64> {
         let x: f64 = self.parse()?;
         if !x.is_finite() {
-            bail!("line {}: non-finite number {x}; cramp never writes NaN or inf", self.line);
+            bail!(
+                "line {}: non-finite number {x}; cramp never writes NaN or inf",
+                self.line
+            );
         }
         Ok(x)
     }
@@ -474,7 +504,10 @@ impl<'t> Tokens<'t> {
     fn expect_zero(&mut self) -> anyhow::Result<()> {
         let x = self.float()?;
         if x != 0.0 {
-            bail!("line {}: expected an out-of-plane 0, found {x:e}", self.line);
+            bail!(
+                "line {}: expected an out-of-plane 0, found {x:e}",
+                self.line
+            );
         }
         Ok(())
     }
@@ -495,7 +528,10 @@ impl<'t> Tokens<'t> {
         self.expect_zero()?;
         let zz = self.float()?;
         if xy.to_bits() != yx.to_bits() {
-            bail!("line {}: tensor is not symmetric (xy = {xy:e}, yx = {yx:e})", self.line);
+            bail!(
+                "line {}: tensor is not symmetric (xy = {xy:e}, yx = {yx:e})",
+                self.line
+            );
         }
         Ok(Sym { xx, yy, zz, xy })
     }
@@ -545,8 +581,18 @@ mod tests {
         let mass = [1.0, 2.0];
         let vel = [Vector::new(0.25, 0.0), Vector::new(-1.0, 3.0)];
         let stress = [
-            Sym { xx: 1.0, yy: 2.0, zz: 3.0, xy: 4.0 },
-            Sym { xx: -1.0, yy: 0.0, zz: 0.5, xy: 0.0 },
+            Sym {
+                xx: 1.0,
+                yy: 2.0,
+                zz: 3.0,
+                xy: 4.0,
+            },
+            Sym {
+                xx: -1.0,
+                yy: 0.0,
+                zz: 0.5,
+                xy: 0.0,
+            },
         ];
         write_points(
             &path,
@@ -603,7 +649,12 @@ TENSORS stress double
         let scalar: Vec<f64> = a.iter().rev().copied().collect();
         let vel: Vec<Vector> = (0..n).map(|i| Vector::new(a[(i + 2) % n], -a[i])).collect();
         let sym: Vec<Sym> = (0..n)
-            .map(|i| Sym { xx: a[i], yy: a[(i + 3) % n], zz: a[(i + 4) % n], xy: a[(i + 5) % n] })
+            .map(|i| Sym {
+                xx: a[i],
+                yy: a[(i + 3) % n],
+                zz: a[(i + 4) % n],
+                xy: a[(i + 5) % n],
+            })
             .collect();
         write_points(
             &path,
@@ -619,7 +670,11 @@ TENSORS stress double
 
         let snap = read_points(&path).unwrap();
         assert_eq!(snap.title, "round trip");
-        let pos_bits = |p: &[Vector]| p.iter().flat_map(|v| [v.x.to_bits(), v.y.to_bits()]).collect::<Vec<_>>();
+        let pos_bits = |p: &[Vector]| {
+            p.iter()
+                .flat_map(|v| [v.x.to_bits(), v.y.to_bits()])
+                .collect::<Vec<_>>()
+        };
         assert_eq!(pos_bits(&snap.positions), pos_bits(&pos));
         assert_eq!(snap.arrays.len(), 3);
         match snap.array("s").unwrap() {
@@ -633,7 +688,9 @@ TENSORS stress double
         match snap.array("sigma").unwrap() {
             PointArray::Tensor(t) => {
                 let sym_bits = |t: &[Sym]| {
-                    t.iter().flat_map(|s| bits(&[s.xx, s.yy, s.zz, s.xy])).collect::<Vec<_>>()
+                    t.iter()
+                        .flat_map(|s| bits(&[s.xx, s.yy, s.zz, s.xy]))
+                        .collect::<Vec<_>>()
                 };
                 assert_eq!(sym_bits(t), sym_bits(&sym));
             }
@@ -642,10 +699,16 @@ TENSORS stress double
 
         // Writing the snapshot back out gives a byte-identical file.
         let path2 = dir.join("p2.vtk");
-        let data: Vec<(&str, PointData)> =
-            snap.arrays.iter().map(|(n, a)| (n.as_str(), a.as_point_data())).collect();
+        let data: Vec<(&str, PointData)> = snap
+            .arrays
+            .iter()
+            .map(|(n, a)| (n.as_str(), a.as_point_data()))
+            .collect();
         write_points(&path2, &snap.title, &snap.positions, &data).unwrap();
-        assert_eq!(std::fs::read(&path).unwrap(), std::fs::read(&path2).unwrap());
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            std::fs::read(&path2).unwrap()
+        );
     }
 
     #[test]
@@ -680,14 +743,31 @@ TENSORS stress double
             assert!(err.to_string().contains(name), "{err}");
             assert!(!path.exists());
         }
-        let tensor = [Sym::ZERO, Sym { zz: f64::NEG_INFINITY, ..Sym::ZERO }];
-        let err = write_points(dir.join("t.vtk"), "t", &pos, &[("sig", PointData::Tensor(&tensor))])
-            .unwrap_err();
+        let tensor = [
+            Sym::ZERO,
+            Sym {
+                zz: f64::NEG_INFINITY,
+                ..Sym::ZERO
+            },
+        ];
+        let err = write_points(
+            dir.join("t.vtk"),
+            "t",
+            &pos,
+            &[("sig", PointData::Tensor(&tensor))],
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("zz at point 1"), "{err}");
 
         let bad_pos = [Vector::new(f64::NAN, 0.0)];
         assert!(write_points(dir.join("p.vtk"), "t", &bad_pos, &[]).is_err());
-        assert!(write_polylines(dir.join("l.vtk"), "t", &[bad_pos.to_vec(), pos.to_vec()], &[]).is_err());
+        assert!(write_polylines(
+            dir.join("l.vtk"),
+            "t",
+            &[bad_pos.to_vec(), pos.to_vec()],
+            &[]
+        )
+        .is_err());
     }
 
     #[test]
@@ -700,7 +780,10 @@ TENSORS stress double
         assert!(write_points(&path, "t", &pos, &[("m", PointData::Scalar(&[1.0, 2.0]))]).is_err());
         assert!(write_points(&path, "t", &pos, &[("two words", PointData::Scalar(&one))]).is_err());
         assert!(write_points(&path, "t", &pos, &[("", PointData::Scalar(&one))]).is_err());
-        let dup = [("m", PointData::Scalar(&one)), ("m", PointData::Scalar(&one))];
+        let dup = [
+            ("m", PointData::Scalar(&one)),
+            ("m", PointData::Scalar(&one)),
+        ];
         assert!(write_points(&path, "t", &pos, &dup).is_err());
         assert!(write_points(&path, "a\nb", &pos, &[]).is_err());
         assert!(!path.exists());
@@ -730,7 +813,11 @@ TENSORS stress double
         let dir = temp_dir("lines");
         let path = dir.join("cracks.vtk");
         let lines = vec![
-            vec![Vector::new(0.0, 0.0), Vector::new(1.0, 0.0), Vector::new(1.5, 0.25)],
+            vec![
+                Vector::new(0.0, 0.0),
+                Vector::new(1.0, 0.0),
+                Vector::new(1.5, 0.25),
+            ],
             vec![Vector::new(2.0, 1.0), Vector::new(2.0, 2.0)],
         ];
         let k1 = [1.25, -0.5];

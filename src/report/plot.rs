@@ -38,6 +38,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use anyhow::{anyhow, ensure, Context, Result};
+use plotters::coord::combinators::{BindKeyPoints, LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
@@ -157,12 +158,22 @@ pub struct Series {
 impl Series {
     /// A coloured line.
     pub fn line(name: &str, points: Vec<(f64, f64)>) -> Self {
-        Series { name: name.to_string(), points, markers: false, reference: false }
+        Series {
+            name: name.to_string(),
+            points,
+            markers: false,
+            reference: false,
+        }
     }
 
     /// A dashed black reference curve.
     pub fn reference(name: &str, points: Vec<(f64, f64)>) -> Self {
-        Series { name: name.to_string(), points, markers: false, reference: true }
+        Series {
+            name: name.to_string(),
+            points,
+            markers: false,
+            reference: true,
+        }
     }
 
     /// The same series with a marker at every point.
@@ -223,7 +234,10 @@ pub fn pareto_front<L>(points: &[(f64, f64, L)]) -> Vec<usize> {
         .filter(|&i| !(0..points.len()).any(|j| finite(j) && dominates(j, i)))
         .collect();
     front.sort_by(|&a, &b| {
-        (points[a].0, points[a].1).partial_cmp(&(points[b].0, points[b].1)).unwrap().then(a.cmp(&b))
+        (points[a].0, points[a].1)
+            .partial_cmp(&(points[b].0, points[b].1))
+            .unwrap()
+            .then(a.cmp(&b))
     });
     front
 }
@@ -271,7 +285,13 @@ fn linear_tick_formatter(range: &Range<f64>) -> impl Fn(&f64) -> String {
     let magnitude = range.start.abs().max(range.end.abs());
     let extra = (magnitude.log10().floor() - span.log10().floor()).max(0.0) as usize;
     let sig = (2 + extra).clamp(3, 15);
-    move |&x| if x.abs() < span * 1e-9 { "0".to_string() } else { format_sig(x, sig) }
+    move |&x| {
+        if x.abs() < span * 1e-9 {
+            "0".to_string()
+        } else {
+            format_sig(x, sig)
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -281,7 +301,11 @@ fn linear_tick_formatter(range: &Range<f64>) -> impl Fn(&f64) -> String {
 /// Named x–y series on linear axes. Reference series are dashed black; the
 /// others take colours in order. The legend defaults to the upper right.
 pub fn line_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> Result<()> {
-    ensure!(!series.is_empty(), "line plot '{}' has no series", spec.title);
+    ensure!(
+        !series.is_empty(),
+        "line plot '{}' has no series",
+        spec.title
+    );
     for s in series {
         check_points(&s.name, &s.points, Axes::Linear)?;
     }
@@ -290,8 +314,14 @@ pub fn line_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> 
     let y_range = linear_range(all_points().map(|p| p.1), spec.y_range)?;
 
     let root = open_canvas(path.as_ref(), spec)?;
-    let mut chart = chart_builder(&root, spec).build_cartesian_2d(x_range.clone(), y_range.clone())?;
-    draw_mesh(&mut chart, spec, &linear_tick_formatter(&x_range), &linear_tick_formatter(&y_range))?;
+    let mut chart =
+        chart_builder(&root, spec).build_cartesian_2d(x_range.clone(), y_range.clone())?;
+    draw_mesh(
+        &mut chart,
+        spec,
+        &linear_tick_formatter(&x_range),
+        &linear_tick_formatter(&y_range),
+    )?;
 
     let mut colors = PALETTE.iter().cycle();
     for s in series {
@@ -302,8 +332,12 @@ pub fn line_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> 
             draw_line(&mut chart, &s.name, &s.points, color, s.markers)?;
         }
     }
-    draw_legend(&mut chart, spec.legend.unwrap_or(LegendPosition::UpperRight))?;
-    root.present().with_context(|| format!("writing {}", path.as_ref().display()))
+    draw_legend(
+        &mut chart,
+        spec.legend.unwrap_or(LegendPosition::UpperRight),
+    )?;
+    root.present()
+        .with_context(|| format!("writing {}", path.as_ref().display()))
 }
 
 /// Error versus cell size `(h, error)` on log–log axes, with the least-squares
@@ -330,16 +364,22 @@ pub fn loglog_convergence(
     let y_range = log_range(ys, spec.y_range)?;
 
     let root = open_canvas(path.as_ref(), spec)?;
-    let mut chart = chart_builder(&root, spec)
-        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+    let mut chart =
+        chart_builder(&root, spec).build_cartesian_2d(log_axis(&x_range), log_axis(&y_range))?;
     draw_mesh(&mut chart, spec, &|x| format_tick(*x), &|y| format_tick(*y))?;
 
     let mut sorted = points.to_vec();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
     draw_line(&mut chart, label, &sorted, PALETTE[0], true)?;
-    draw_dashed(&mut chart, &format!("fitted order p = {p:.2}"), &fitted, BLACK)?;
+    draw_dashed(
+        &mut chart,
+        &format!("fitted order p = {p:.2}"),
+        &fitted,
+        BLACK,
+    )?;
     draw_legend(&mut chart, spec.legend.unwrap_or(LegendPosition::UpperLeft))?;
-    root.present().with_context(|| format!("writing {}", path.as_ref().display()))
+    root.present()
+        .with_context(|| format!("writing {}", path.as_ref().display()))
 }
 
 /// Run time versus error `(time, error, label)` on log–log axes: every run as a
@@ -354,17 +394,23 @@ pub fn pareto_plot(
     check_points("runs", &xy, Axes::LogLog)?;
     let front: Vec<(f64, f64)> = pareto_front(points).into_iter().map(|i| xy[i]).collect();
 
-    let x_range = log_range(xy.iter().map(|p| p.0), spec.x_range)?;
+    let mut x_range = log_range(xy.iter().map(|p| p.0), spec.x_range)?;
+    if spec.x_range.is_none() {
+        // Room on the right for the label of the slowest run.
+        x_range.end *= (x_range.end / x_range.start).powf(0.12);
+    }
     let y_range = log_range(xy.iter().map(|p| p.1), spec.y_range)?;
 
     let root = open_canvas(path.as_ref(), spec)?;
-    let mut chart = chart_builder(&root, spec)
-        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+    let mut chart =
+        chart_builder(&root, spec).build_cartesian_2d(log_axis(&x_range), log_axis(&y_range))?;
     draw_mesh(&mut chart, spec, &|x| format_tick(*x), &|y| format_tick(*y))?;
 
     // All runs: a blue dot with its label beside it.
     let run_color = PALETTE[0];
-    let label_font = (FONT, POINT_LABEL_SIZE).into_font().color(&RGBColor(60, 60, 60));
+    let label_font = (FONT, POINT_LABEL_SIZE)
+        .into_font()
+        .color(&RGBColor(60, 60, 60));
     chart
         .draw_series(points.iter().map(|(t, e, label)| {
             EmptyElement::at((*t, *e))
@@ -383,8 +429,12 @@ pub fn pareto_plot(
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], front_style));
     chart.draw_series(front.iter().map(|&p| Circle::new(p, 8, front_style)))?;
 
-    draw_legend(&mut chart, spec.legend.unwrap_or(LegendPosition::UpperRight))?;
-    root.present().with_context(|| format!("writing {}", path.as_ref().display()))
+    draw_legend(
+        &mut chart,
+        spec.legend.unwrap_or(LegendPosition::UpperRight),
+    )?;
+    root.present()
+        .with_context(|| format!("writing {}", path.as_ref().display()))
 }
 
 // ---------------------------------------------------------------------------
@@ -392,7 +442,10 @@ pub fn pareto_plot(
 // ---------------------------------------------------------------------------
 
 /// The bundled font, compiled into the binary.
-static DEJAVU_SANS: &[u8] = include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/DejaVuSans.ttf"));
+static DEJAVU_SANS: &[u8] = include_bytes!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/DejaVuSans.ttf"
+));
 
 /// Register the bundled DejaVu Sans as the [`FONT`] family, once per process.
 /// Every plot function calls it; calling it again is free.
@@ -415,7 +468,9 @@ type Chart<'a, 'b, X, Y> = ChartContext<'a, BitMapBackend<'b>, Cartesian2d<X, Y>
 /// A white canvas of the spec's size that writes a PNG to `path` on `present()`.
 fn open_canvas<'a>(path: &'a Path, spec: &PlotSpec) -> Result<Canvas<'a>> {
     register_bundled_font()?;
-    let is_png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    let is_png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     ensure!(is_png, "plot file {} must end in .png", path.display());
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -426,7 +481,10 @@ fn open_canvas<'a>(path: &'a Path, spec: &PlotSpec) -> Result<Canvas<'a>> {
 }
 
 /// Title and room for the tick labels and axis descriptions.
-fn chart_builder<'a, 'b>(root: &'a Canvas<'b>, spec: &PlotSpec) -> ChartBuilder<'a, 'b, BitMapBackend<'b>> {
+fn chart_builder<'a, 'b>(
+    root: &'a Canvas<'b>,
+    spec: &PlotSpec,
+) -> ChartBuilder<'a, 'b, BitMapBackend<'b>> {
     let mut builder = ChartBuilder::on(root);
     builder
         .caption(&spec.title, (FONT, TITLE_SIZE))
@@ -451,6 +509,10 @@ where
         .configure_mesh()
         .x_desc(&spec.x_label)
         .y_desc(&spec.y_label)
+        // Ticks per axis from the image size, so small images are not crowded
+        // (ignored by log axes, which have their own ticks).
+        .x_labels((spec.size.0 / 90).clamp(3, 12) as usize)
+        .y_labels((spec.size.1 / 55).clamp(3, 12) as usize)
         .x_label_formatter(x_format)
         .y_label_formatter(y_format)
         .label_style((FONT, TICK_LABEL_SIZE))
@@ -540,34 +602,119 @@ enum Axes {
 fn check_points(name: &str, points: &[(f64, f64)], axes: Axes) -> Result<()> {
     ensure!(!points.is_empty(), "series '{name}' has no points");
     for (i, &(x, y)) in points.iter().enumerate() {
-        ensure!(x.is_finite() && y.is_finite(), "series '{name}' point {i} is not finite: ({x}, {y})");
+        ensure!(
+            x.is_finite() && y.is_finite(),
+            "series '{name}' point {i} is not finite: ({x}, {y})"
+        );
         if axes == Axes::LogLog {
-            ensure!(x > 0.0 && y > 0.0, "series '{name}' point {i} is not positive on log axes: ({x}, {y})");
+            ensure!(
+                x > 0.0 && y > 0.0,
+                "series '{name}' point {i} is not positive on log axes: ({x}, {y})"
+            );
         }
     }
     Ok(())
 }
 
 /// The fixed range if given, else the data range padded by 5 % on each side.
-fn linear_range(values: impl Iterator<Item = f64>, fixed: Option<(f64, f64)>) -> Result<Range<f64>> {
+fn linear_range(
+    values: impl Iterator<Item = f64>,
+    fixed: Option<(f64, f64)>,
+) -> Result<Range<f64>> {
     if let Some((lo, hi)) = fixed {
-        ensure!(lo.is_finite() && hi.is_finite() && lo < hi, "bad fixed axis range [{lo}, {hi}]");
+        ensure!(
+            lo.is_finite() && hi.is_finite() && lo < hi,
+            "bad fixed axis range [{lo}, {hi}]"
+        );
         return Ok(lo..hi);
     }
     let (lo, hi) = min_max(values)?;
-    let pad = if hi > lo { 0.05 * (hi - lo) } else if lo != 0.0 { 0.1 * lo.abs() } else { 1.0 };
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else if lo != 0.0 {
+        0.1 * lo.abs()
+    } else {
+        1.0
+    };
     Ok(lo - pad..hi + pad)
 }
 
 /// The fixed range if given, else the data range padded by a factor on each side.
 fn log_range(values: impl Iterator<Item = f64>, fixed: Option<(f64, f64)>) -> Result<Range<f64>> {
     if let Some((lo, hi)) = fixed {
-        ensure!(lo > 0.0 && hi.is_finite() && lo < hi, "bad fixed log axis range [{lo}, {hi}]");
+        ensure!(
+            lo > 0.0 && hi.is_finite() && lo < hi,
+            "bad fixed log axis range [{lo}, {hi}]"
+        );
         return Ok(lo..hi);
     }
     let (lo, hi) = min_max(values)?;
     let factor = (hi / lo).powf(0.06).max(1.3);
     Ok(lo / factor..hi * factor)
+}
+
+/// A logarithmic axis over `range` with ticks from [`log_ticks`].
+///
+/// plotters' own log ticks can repeat a decade (two "0.1" labels drawn on top of
+/// each other) and leave a two-decade axis with only two labels, so the ticks
+/// are chosen here.
+fn log_axis(range: &Range<f64>) -> WithKeyPoints<LogCoord<f64>> {
+    let (labelled, grid_only) = log_ticks(range.start, range.end);
+    range
+        .clone()
+        .log_scale()
+        .with_key_points(labelled)
+        .with_light_points(grid_only)
+}
+
+/// Tick values for a log axis over `[lo, hi]`: (labelled ticks, unlabelled grid
+/// lines). Ticks are m·10^k with the mantissas m chosen by how many decades the
+/// axis spans: 1 only (every few decades on very long axes); 1, 2, 5; or 1…9.
+/// Each tick is parsed from its decimal text, so it is the double nearest to
+/// m·10^k (0.3, not 0.30000000000000004).
+fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let decades = (hi / lo).log10();
+    let (labelled_mantissas, decade_stride): (&[f64], i32) = if decades > 8.0 {
+        (&[1.0], (decades / 8.0).ceil() as i32)
+    } else if decades > 3.5 {
+        (&[1.0], 1)
+    } else if decades > 1.5 {
+        (&[1.0, 2.0, 5.0], 1)
+    } else if decades > 0.6 {
+        (&[1.0, 2.0, 3.0, 5.0], 1)
+    } else {
+        (&[1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], 1)
+    };
+    let grid_mantissas: &[f64] = if decades > 3.5 {
+        &[]
+    } else {
+        &[2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+    };
+
+    let in_range = |x: &f64| (lo..=hi).contains(x);
+    let value = |m: f64, k: i32| -> f64 { format!("{m}e{k}").parse().expect("a decimal literal") };
+    let (k_lo, k_hi) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let mut labelled = Vec::new();
+    let mut grid_only = Vec::new();
+    for k in k_lo..=k_hi {
+        for &m in labelled_mantissas {
+            if m != 1.0 || k.rem_euclid(decade_stride) == 0 {
+                labelled.push(value(m, k));
+            }
+        }
+        for &m in grid_mantissas {
+            if !labelled_mantissas.contains(&m) {
+                grid_only.push(value(m, k));
+            }
+        }
+    }
+    labelled.retain(in_range);
+    grid_only.retain(in_range);
+    if labelled.len() < 2 {
+        // A very narrow axis (e.g. 2.1 to 2.4): label its ends.
+        labelled = vec![lo, hi];
+    }
+    (labelled, grid_only)
 }
 
 fn min_max(values: impl Iterator<Item = f64>) -> Result<(f64, f64)> {
@@ -597,17 +744,37 @@ mod tests {
     /// The PNG exists, starts with the PNG signature and is not a blank image.
     fn assert_png(path: &Path) {
         let bytes = std::fs::read(path).unwrap();
-        assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "{} is not a PNG", path.display());
-        assert!(bytes.len() > 15_000, "{} is only {} bytes", path.display(), bytes.len());
+        assert!(
+            bytes.starts_with(b"\x89PNG\r\n\x1a\n"),
+            "{} is not a PNG",
+            path.display()
+        );
+        assert!(
+            bytes.len() > 15_000,
+            "{} is only {} bytes",
+            path.display(),
+            bytes.len()
+        );
     }
 
     #[test]
     fn fit_order_recovers_exact_power_laws() {
-        for &(c, p) in &[(1.0, 1.0), (3.7, 2.0), (0.02, 1.5), (5.0, -0.5), (1e-3, 4.0)] {
-            let points: Vec<(f64, f64)> =
-                [0.1, 0.05, 0.025, 0.0125, 0.00625].iter().map(|&h: &f64| (h, c * h.powf(p))).collect();
+        for &(c, p) in &[
+            (1.0, 1.0),
+            (3.7, 2.0),
+            (0.02, 1.5),
+            (5.0, -0.5),
+            (1e-3, 4.0),
+        ] {
+            let points: Vec<(f64, f64)> = [0.1, 0.05, 0.025, 0.0125, 0.00625]
+                .iter()
+                .map(|&h: &f64| (h, c * h.powf(p)))
+                .collect();
             let fitted = fit_order(&points);
-            assert!((fitted - p).abs() < 1e-12, "c = {c}, p = {p}: fitted {fitted}");
+            assert!(
+                (fitted - p).abs() < 1e-12,
+                "c = {c}, p = {p}: fitted {fitted}"
+            );
         }
         // Two points give the exact slope; irregular spacing too.
         let two = [(1.0, 2.0), (4.0, 32.0)];
@@ -619,8 +786,11 @@ mod tests {
         // ln e = 2 ln h + noise, noise symmetric about the line: slope exactly 2 by symmetry.
         let hs = [1.0f64, 2.0, 4.0, 8.0];
         let noise = [0.1, -0.1, -0.1, 0.1];
-        let points: Vec<(f64, f64)> =
-            hs.iter().zip(noise).map(|(&h, n)| (h, (2.0 * h.ln() + n).exp())).collect();
+        let points: Vec<(f64, f64)> = hs
+            .iter()
+            .zip(noise)
+            .map(|(&h, n)| (h, (2.0 * h.ln() + n).exp()))
+            .collect();
         assert!((fit_order(&points) - 2.0).abs() < 1e-12);
     }
 
@@ -636,15 +806,15 @@ mod tests {
     #[test]
     fn pareto_front_keeps_the_non_dominated_points() {
         let points = [
-            (1.0, 10.0, "fast, coarse"),  // 0: front (fastest)
-            (2.0, 5.0, "a"),              // 1: front
-            (3.0, 6.0, "b"),              // 2: dominated by 1
-            (4.0, 1.0, "slow, fine"),     // 3: front (most accurate)
-            (4.0, 2.0, "c"),              // 4: dominated by 3 (same time, more error)
-            (0.5, 20.0, "fastest"),       // 5: front
-            (2.0, 5.0, "a again"),        // 6: equal to 1: both on the front
-            (f64::NAN, 0.1, "broken"),    // 7: non-finite: never on the front
-            (10.0, 1.0, "slower, same"),  // 8: dominated by 3 (same error, more time)
+            (1.0, 10.0, "fast, coarse"), // 0: front (fastest)
+            (2.0, 5.0, "a"),             // 1: front
+            (3.0, 6.0, "b"),             // 2: dominated by 1
+            (4.0, 1.0, "slow, fine"),    // 3: front (most accurate)
+            (4.0, 2.0, "c"),             // 4: dominated by 3 (same time, more error)
+            (0.5, 20.0, "fastest"),      // 5: front
+            (2.0, 5.0, "a again"),       // 6: equal to 1: both on the front
+            (f64::NAN, 0.1, "broken"),   // 7: non-finite: never on the front
+            (10.0, 1.0, "slower, same"), // 8: dominated by 3 (same error, more time)
         ];
         assert_eq!(pareto_front(&points), vec![5, 0, 1, 6, 3]);
         assert!(pareto_front::<()>(&[]).is_empty());
@@ -676,13 +846,38 @@ mod tests {
     }
 
     #[test]
+    fn log_ticks_are_exact_unique_and_readable() {
+        let (labelled, grid) = log_ticks(0.0085, 0.13);
+        assert_eq!(labelled, vec![0.01, 0.02, 0.03, 0.05, 0.1]);
+        assert!(grid.contains(&0.04) && grid.contains(&0.09) && !grid.contains(&0.05));
+        let (labelled, _) = log_ticks(1.2e-4, 1.1e-2);
+        assert_eq!(labelled, vec![2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2]);
+        let (labelled, grid) = log_ticks(1e-12, 1.0);
+        assert_eq!(labelled, vec![1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 1.0]);
+        assert!(grid.is_empty());
+        let (labelled, _) = log_ticks(2.1, 2.4);
+        assert_eq!(labelled, vec![2.1, 2.4]);
+        let (labelled, _) = log_ticks(0.25, 0.7);
+        assert_eq!(labelled, vec![0.25, 0.3, 0.4, 0.5, 0.6, 0.7]);
+    }
+
+    #[test]
     fn line_plot_renders() {
         let dir = temp_dir("line");
         let xs: Vec<f64> = (0..=50).map(|i| i as f64 * 0.02).collect();
-        let exact: Vec<(f64, f64)> = xs.iter().map(|&x| (x, (std::f64::consts::PI * x).sin())).collect();
-        let mpm: Vec<(f64, f64)> =
-            xs.iter().step_by(5).map(|&x| (x, 0.97 * (std::f64::consts::PI * x).sin())).collect();
-        let fea: Vec<(f64, f64)> = xs.iter().map(|&x| (x, 1.02 * (std::f64::consts::PI * x).sin() - 0.05)).collect();
+        let exact: Vec<(f64, f64)> = xs
+            .iter()
+            .map(|&x| (x, (std::f64::consts::PI * x).sin()))
+            .collect();
+        let mpm: Vec<(f64, f64)> = xs
+            .iter()
+            .step_by(5)
+            .map(|&x| (x, 0.97 * (std::f64::consts::PI * x).sin()))
+            .collect();
+        let fea: Vec<(f64, f64)> = xs
+            .iter()
+            .map(|&x| (x, 1.02 * (std::f64::consts::PI * x).sin() - 0.05))
+            .collect();
         let spec = PlotSpec::new("Crack opening profile", "x / a", "opening / exact maximum");
         let path = dir.join("line.png");
         line_plot(
@@ -698,18 +893,31 @@ mod tests {
         assert_png(&path);
 
         // A fixed y range, a custom size, and a constant series (zero span).
-        let spec = PlotSpec::new("Fixed range", "t", "energy").with_y_range(-2.0, 2.0).with_size(600, 400);
+        let spec = PlotSpec::new("Fixed range", "t", "energy")
+            .with_y_range(-2.0, 2.0)
+            .with_size(600, 400);
         let flat = Series::line("flat", vec![(0.0, 1.0), (1.0, 1.0)]);
-        line_plot(dir.join("fixed.png"), &spec, &[flat.clone()]).unwrap();
-        line_plot(dir.join("flat.png"), &PlotSpec::new("Flat", "t", "e"), &[flat]).unwrap();
+        line_plot(dir.join("fixed.png"), &spec, std::slice::from_ref(&flat)).unwrap();
+        line_plot(
+            dir.join("flat.png"),
+            &PlotSpec::new("Flat", "t", "e"),
+            &[flat],
+        )
+        .unwrap();
     }
 
     #[test]
     fn convergence_plot_renders() {
         let dir = temp_dir("convergence");
-        let points: Vec<(f64, f64)> =
-            [0.1, 0.05, 0.025, 0.0125].iter().map(|&h: &f64| (h, 0.8 * h.powf(1.98))).collect();
-        let spec = PlotSpec::new("J-integral convergence", "cell size h", "relative error in J");
+        let points: Vec<(f64, f64)> = [0.1, 0.05, 0.025, 0.0125]
+            .iter()
+            .map(|&h: &f64| (h, 0.8 * h.powf(1.98)))
+            .collect();
+        let spec = PlotSpec::new(
+            "J-integral convergence",
+            "cell size h",
+            "relative error in J",
+        );
         let path = dir.join("convergence.png");
         loglog_convergence(&path, &spec, &points, "MPM, GIMP").unwrap();
         assert_png(&path);
@@ -725,7 +933,11 @@ mod tests {
             (7.5, 1e-3, "h=1/64 GIMP".to_string()),
             (9.0, 3e-3, "h=1/64 linear".to_string()),
         ];
-        let spec = PlotSpec::new("Cost versus accuracy", "run time [s]", "relative error in K_I");
+        let spec = PlotSpec::new(
+            "Cost versus accuracy",
+            "run time [s]",
+            "relative error in K_I",
+        );
         let path = dir.join("pareto.png");
         pareto_plot(&path, &spec, &points).unwrap();
         assert_png(&path);
@@ -739,7 +951,10 @@ mod tests {
         let err = line_plot(dir.join("nan.png"), &spec, &[nan]).unwrap_err();
         assert!(err.to_string().contains("broken"), "{err}");
         assert!(line_plot(dir.join("empty.png"), &spec, &[]).is_err());
-        assert!(loglog_convergence(dir.join("zero.png"), &spec, &[(0.1, 0.0), (0.2, 1.0)], "e").is_err());
+        assert!(
+            loglog_convergence(dir.join("zero.png"), &spec, &[(0.1, 0.0), (0.2, 1.0)], "e")
+                .is_err()
+        );
         assert!(loglog_convergence(dir.join("one.png"), &spec, &[(0.1, 1.0)], "e").is_err());
         let ok = Series::line("ok", vec![(0.0, 1.0), (1.0, 2.0)]);
         assert!(line_plot(dir.join("plot.svg"), &spec, &[ok]).is_err());
