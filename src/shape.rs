@@ -80,6 +80,39 @@ fn node_range(x: f64, x0: f64, h: f64, reach: f64, n_cells: usize) -> (isize, us
     (lo, (hi - lo + 1).max(0) as usize)
 }
 
+/// The non-zero 1D weights (value, derivative) along one axis and their node indices;
+/// returns how many.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn axis_weights(
+    kind: ShapeKind,
+    x: f64,
+    x0: f64,
+    h: f64,
+    reach: f64,
+    lp: f64,
+    n_cells: usize,
+    out: &mut [(f64, f64); 3],
+    idx: &mut [usize; 3],
+) -> usize {
+    let (i0, count) = node_range(x, x0, h, reach, n_cells);
+    let mut k = 0;
+    for a in 0..count.min(3) {
+        let i = (i0 as usize) + a;
+        let xi = x - (x0 + i as f64 * h);
+        let v = match kind {
+            ShapeKind::Linear => linear_1d(xi, h),
+            ShapeKind::Ugimp => ugimp_1d(xi, h, lp),
+        };
+        if v.0 != 0.0 {
+            out[k] = v;
+            idx[k] = i;
+            k += 1;
+        }
+    }
+    k
+}
+
 /// Weights of particle at `x` (half-widths `lp` for uGIMP). Nodes with zero weight
 /// are dropped. Caller guarantees the particle is inside the grid (checked mode does).
 pub fn weights(grid: &Grid, kind: ShapeKind, x: &Vector, lp: &Vector) -> Weights {
@@ -88,40 +121,12 @@ pub fn weights(grid: &Grid, kind: ShapeKind, x: &Vector, lp: &Vector) -> Weights
         ShapeKind::Linear => (0.0, 0.0),
         ShapeKind::Ugimp => (lp.x, lp.y),
     };
-    let (ix0, cx) = node_range(x.x, grid.origin.x, grid.h.x, rx, grid.nx);
-    let (iy0, cy) = node_range(x.y, grid.origin.y, grid.h.y, ry, grid.ny);
     let mut sx = [(0.0, 0.0); 3];
     let mut sy = [(0.0, 0.0); 3];
     let mut nx_idx = [0usize; 3];
     let mut ny_idx = [0usize; 3];
-    let mut kx = 0;
-    for a in 0..cx.min(3) {
-        let ix = (ix0 as usize) + a;
-        let xi = x.x - (grid.origin.x + ix as f64 * grid.h.x);
-        let v = match kind {
-            ShapeKind::Linear => linear_1d(xi, grid.h.x),
-            ShapeKind::Ugimp => ugimp_1d(xi, grid.h.x, lp.x),
-        };
-        if v.0 != 0.0 {
-            sx[kx] = v;
-            nx_idx[kx] = ix;
-            kx += 1;
-        }
-    }
-    let mut ky = 0;
-    for b in 0..cy.min(3) {
-        let iy = (iy0 as usize) + b;
-        let yi = x.y - (grid.origin.y + iy as f64 * grid.h.y);
-        let v = match kind {
-            ShapeKind::Linear => linear_1d(yi, grid.h.y),
-            ShapeKind::Ugimp => ugimp_1d(yi, grid.h.y, lp.y),
-        };
-        if v.0 != 0.0 {
-            sy[ky] = v;
-            ny_idx[ky] = iy;
-            ky += 1;
-        }
-    }
+    let kx = axis_weights(kind, x.x, grid.origin.x, grid.h.x, rx, lp.x, grid.nx, &mut sx, &mut nx_idx);
+    let ky = axis_weights(kind, x.y, grid.origin.y, grid.h.y, ry, lp.y, grid.ny, &mut sy, &mut ny_idx);
     for b in 0..ky {
         for a in 0..kx {
             let k = w.n;

@@ -470,70 +470,46 @@ impl Simulation {
     fn nodal_momentum_total(&self) -> Vector {
         let mut sx = ExactSum::new();
         let mut sy = ExactSum::new();
-        for &node in &self.nodes.active {
-            let i = node as usize;
-            for (f, fa) in self.nodes.fields.iter().enumerate() {
-                if self.nodes.present[i] & (1 << f) != 0 {
-                    sx.add(fa.mom[i].x);
-                    sy.add(fa.mom[i].y);
-                }
-            }
+        for (f, i) in self.nodes.present_fields() {
+            let p = self.nodes.fields[f].mom[i];
+            sx.add(p.x);
+            sy.add(p.y);
         }
         Vector::new(sx.value(), sy.value())
     }
 
     /// Σ |p| over nodes: the scale against which a change of total momentum is judged.
     fn nodal_momentum_scale(&self) -> f64 {
-        let mut s = ExactSum::new();
-        for &node in &self.nodes.active {
-            let i = node as usize;
-            for (f, fa) in self.nodes.fields.iter().enumerate() {
-                if self.nodes.present[i] & (1 << f) != 0 {
-                    s.add(fa.mom[i].x.abs() + fa.mom[i].y.abs());
-                }
-            }
-        }
-        s.value()
+        let n = &self.nodes;
+        crate::exact::sum_iter(n.present_fields().map(|(f, i)| n.fields[f].mom[i].abs().sum()))
     }
 
     /// Σ |f_int| over nodes: the scale against which Σ f_int = 0 is judged.
     fn force_scale(&self) -> f64 {
-        let mut s = ExactSum::new();
-        for &node in &self.nodes.active {
-            let i = node as usize;
-            for (f, fa) in self.nodes.fields.iter().enumerate() {
-                if self.nodes.present[i] & (1 << f) != 0 {
-                    s.add(fa.fint[i].x.abs() + fa.fint[i].y.abs());
-                }
-            }
-        }
-        s.value()
+        let n = &self.nodes;
+        crate::exact::sum_iter(n.present_fields().map(|(f, i)| n.fields[f].fint[i].abs().sum()))
     }
 
     /// Checked mode after Task 1: positive masses where used; grid mass equals particle mass.
     fn check_nodal_masses(&self) -> Result<(), CheckError> {
         let step = self.step_count;
         let mut grid_mass = ExactSum::new();
-        for &node in &self.nodes.active {
-            let i = node as usize;
-            for (f, fa) in self.nodes.fields.iter().enumerate() {
-                if self.nodes.present[i] & (1 << f) != 0 {
-                    let m = fa.mass[i];
-                    if !(m > 0.0) || !m.is_finite() {
-                        return Err(CheckError::NodalMass { step, node: i, field: f, mass: m });
-                    }
-                    if !fa.mom[i].x.is_finite() || !fa.mom[i].y.is_finite() {
-                        return Err(CheckError::NonFiniteNode {
-                            step,
-                            node: i,
-                            field: f,
-                            what: "momentum",
-                            value: crate::check::fmt_vec(&fa.mom[i]),
-                        });
-                    }
-                    grid_mass.add(m);
-                }
+        for (f, i) in self.nodes.present_fields() {
+            let fa = &self.nodes.fields[f];
+            let m = fa.mass[i];
+            if !(m > 0.0) || !m.is_finite() {
+                return Err(CheckError::NodalMass { step, node: i, field: f, mass: m });
             }
+            if !fa.mom[i].x.is_finite() || !fa.mom[i].y.is_finite() {
+                return Err(CheckError::NonFiniteNode {
+                    step,
+                    node: i,
+                    field: f,
+                    what: "momentum",
+                    value: crate::check::fmt_vec(&fa.mom[i]),
+                });
+            }
+            grid_mass.add(m);
         }
         let gm = grid_mass.value();
         let pm = crate::exact::sum(&self.particles.mass);
