@@ -18,6 +18,7 @@
 //! * [`scene`] — TOML scene input and validation.
 //! * [`output`] — history CSV, summary JSON, VTK snapshots.
 //! * [`report`] — plots and the report index.
+//! * [`verify`] — the verification cases, `cramp verify` and `cramp compare`.
 
 pub mod check;
 pub mod contact;
@@ -35,3 +36,4 @@ pub mod scene;
 pub mod shape;
 pub mod simulation;
 pub mod step;
+pub mod verify;

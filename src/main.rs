@@ -3,12 +3,19 @@
 use clap::{Parser, Subcommand};
 use cramp::output::{run_scene, RunOptions};
 use cramp::scene::{Scene, DEFAULT_SCENE};
+use cramp::verify::{self, compare, Variant};
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "cramp", version, about = "Reference MPM with explicit cracks (CRAMP): run scenes, verify, compare")]
+#[command(
+    name = "cramp",
+    version,
+    about = "Reference MPM with explicit cracks (CRAMP): run scenes, verify, compare",
+    long_about = "Reference MPM with explicit cracks (CRAMP): run scenes, verify, compare.\n\n\
+                  Without a command, runs the quick verification suite into reports/ (as `cramp verify --quick`)."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -27,20 +34,117 @@ enum Command {
         #[arg(long)]
         unchecked: bool,
     },
+    /// Run the verification cases: a table on stdout, reports/index.md with plots,
+    /// reports/results.json; exit status 1 if any case fails.
+    Verify {
+        /// The quick suite (coarse cells, minutes) instead of the full one.
+        #[arg(long)]
+        quick: bool,
+        /// Report directory.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+        /// List the cases with their titles and exit.
+        #[arg(long)]
+        list: bool,
+        /// Cases to run (default: every case of the suite).
+        cases: Vec<String>,
+    },
+    /// Compare two runs' history.csv and particle snapshots field by field; exit status 0
+    /// iff every value agrees, |a − b| ≤ atol + rtol·|b| (default: bit-identical). See docs/compare.md.
+    Compare {
+        /// The run to check (directory with history.csv and *.vtk).
+        run_a: PathBuf,
+        /// The reference run.
+        run_b: PathBuf,
+        /// Relative tolerance.
+        #[arg(long, default_value_t = 0.0)]
+        rtol: f64,
+        /// Absolute tolerance.
+        #[arg(long, default_value_t = 0.0)]
+        atol: f64,
+    },
+    /// Run the embedded demo scene (two colliding disks) into out/demo/.
+    Demo,
 }
+
+/// Exit status of `cramp compare` when the runs cannot be compared (bad input).
+const EXIT_BAD_INPUT: u8 = 2;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Some(Command::Run { scene, out, unchecked }) => run(scene, out, unchecked),
-        None => run_default(),
+        Some(Command::Run { scene, out, unchecked }) => run(scene, out, unchecked).map(|()| ExitCode::SUCCESS),
+        Some(Command::Demo) => run_demo().map(|()| ExitCode::SUCCESS),
+        Some(Command::Verify { quick, out, list, cases }) => {
+            if list {
+                list_cases()
+            } else {
+                run_verify(if quick { Variant::Quick } else { Variant::Full }, &out, &cases)
+            }
+        }
+        Some(Command::Compare { run_a, run_b, rtol, atol }) => match compare::compare_runs(&run_a, &run_b, compare::Tolerance { rtol, atol }) {
+            Ok(c) => {
+                print!("{}", c.render());
+                Ok(if c.agree() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+            }
+            Err(e) => {
+                eprintln!("error: cannot compare the runs: {e:#}");
+                return ExitCode::from(EXIT_BAD_INPUT);
+            }
+        },
+        None => {
+            eprintln!("cramp: no command given; running the quick verification suite (`cramp verify --quick`). See `cramp --help`.");
+            run_verify(Variant::Quick, Path::new("reports"), &[])
+        }
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+fn list_cases() -> anyhow::Result<ExitCode> {
+    let m = verify::manifest::Manifest::get()?;
+    for name in verify::case_names() {
+        let c = m.case(name);
+        let suite = if c.map(|c| c.quick.is_some()).unwrap_or(false) { "quick+full" } else { "full only " };
+        println!("{name:<18} {suite}  {}", c.map(|c| c.title.as_str()).unwrap_or("(no manifest entry)"));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Run the cases, print the table, write the report; exit status 1 if any case failed.
+fn run_verify(variant: Variant, out: &Path, names: &[String]) -> anyhow::Result<ExitCode> {
+    let cases = verify::select(names, variant)?;
+    let start = std::time::Instant::now();
+    let mut results = Vec::new();
+    for case in &cases {
+        eprint!("{:<18} ... ", case.name);
+        let r = verify::run_case(case, variant);
+        eprintln!("{} ({:.1} s)", if r.passed { "pass" } else { "FAIL" }, r.wall_s);
+        results.push(r);
+    }
+    let total = start.elapsed().as_secs_f64();
+    println!("{}", verify::report::text_table(&results));
+    let problems = verify::report::write_report(out, &results, variant, total)?;
+    for p in &problems {
+        eprintln!("warning: {p}");
+    }
+    let failed: Vec<&str> = results.iter().filter(|r| !r.passed).map(|r| r.name.as_str()).collect();
+    println!(
+        "{} of {} cases passed in {total:.1} s; report in {}",
+        results.len() - failed.len(),
+        results.len(),
+        out.join("index.md").display()
+    );
+    if failed.is_empty() {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        println!("FAILED: {}", failed.join(", "));
+        Ok(ExitCode::FAILURE)
     }
 }
 
@@ -51,9 +155,9 @@ fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool) -> anyhow::Re
     execute(&scene, out, unchecked)
 }
 
-fn run_default() -> anyhow::Result<()> {
+fn run_demo() -> anyhow::Result<()> {
     let scene = Scene::from_toml(DEFAULT_SCENE, "embedded demo scene")?;
-    eprintln!("cramp: no command given; running the embedded demo scene ({}). See `cramp --help`.", scene.title);
+    eprintln!("cramp: running the embedded demo scene ({}).", scene.title);
     execute(&scene, PathBuf::from("out/demo"), false)
 }
 

@@ -11,109 +11,15 @@
 //! condition number ~1e2 and element integrals summed over a few terms, so ~1e-14 is
 //! expected; 1e-10 catches any genuine inconsistency (a wrong B, Jacobian or quadrature
 //! gives errors of order 1e-3 relative or more).
+//!
+//! The patch solves themselves are the verification case `fea_patch`
+//! (`cramp::verify::cases::fea`, run by `tests/golden.rs` and `cramp verify`); this file
+//! keeps the bad-input checks.
 
 use cramp::dim::Vector;
 use cramp::fea::{self, BoundaryConditions, Mesh, Model};
 use cramp::material::{LinearElastic, PlaneState};
-
-fn patch() -> Mesh {
-    let nodes = vec![
-        Vector::new(0.0, 0.0),
-        Vector::new(0.24, 0.0),
-        Vector::new(0.24, 0.12),
-        Vector::new(0.0, 0.12),
-        Vector::new(0.04, 0.02),
-        Vector::new(0.18, 0.03),
-        Vector::new(0.16, 0.08),
-        Vector::new(0.08, 0.08),
-    ];
-    let elements = vec![[4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [7, 6, 2, 3], [0, 4, 7, 3]];
-    Mesh::new(nodes, elements).unwrap()
-}
-
-fn exact_u(x: Vector) -> Vector {
-    1e-3 * Vector::new(x.x + 0.5 * x.y, x.y + 0.5 * x.x)
-}
-
-fn run(state: PlaneState) {
-    let mesh = patch();
-    let mat = LinearElastic { e: 1.0e6, nu: 0.25, rho: 1.0, state };
-    let model = Model::new(&mesh, mat, 0.001).unwrap();
-    let mut bcs = BoundaryConditions::new(&mesh);
-    for a in 0..4 {
-        bcs.prescribe_node(a, exact_u(mesh.nodes[a])).unwrap();
-    }
-    let sol = fea::solve(&model, &bcs).unwrap();
-
-    let tol = 1e-10;
-    for a in 0..mesh.n_nodes() {
-        let err = (sol.displacement[a] - exact_u(mesh.nodes[a])).norm();
-        assert!(err <= tol * 1e-3 * 0.24, "{state:?} node {a}: displacement error {err:e}");
-    }
-    // Exact stress: D [1e-3, 1e-3, 1e-3].
-    let s = mat.d_matrix() * nalgebra::Vector3::new(1e-3, 1e-3, 1e-3);
-    let zz = if state == PlaneState::PlaneStrain { mat.nu * (s[0] + s[1]) } else { 0.0 };
-    let scale = s.norm();
-    let check = |what: &str, t: &cramp::dim::Sym| {
-        let err = [t.xx - s[0], t.yy - s[1], t.xy - s[2], t.zz - zz].iter().map(|v| v.abs()).fold(0.0, f64::max);
-        assert!(err <= tol * scale, "{state:?} {what}: stress error {err:e} (scale {scale:e})");
-    };
-    let mut worst: f64 = 0.0;
-    for (e, g) in sol.gauss_stress.iter().enumerate() {
-        for (k, t) in g.iter().enumerate() {
-            check(&format!("element {e} Gauss point {k}"), t);
-            worst = worst.max((t.xx - s[0]).abs().max((t.yy - s[1]).abs()).max((t.xy - s[2]).abs()) / scale);
-        }
-    }
-    for (a, t) in sol.nodal_stress.iter().enumerate() {
-        check(&format!("node {a} (averaged)"), t);
-    }
-    // Interior nodes are free and unloaded: their residual must vanish; the boundary
-    // reactions must be in equilibrium.
-    for a in 4..8 {
-        assert!(sol.reaction[a].norm() <= tol * scale * 0.001 * 0.24, "residual at node {a}");
-    }
-    let total: Vector = sol.reaction.iter().sum();
-    assert!(total.norm() <= tol * scale * 0.001 * 0.24);
-    println!("{state:?}: worst relative Gauss-stress error {worst:e}");
-}
-
-#[test]
-fn patch_test_plane_stress() {
-    run(PlaneState::PlaneStress);
-}
-
-#[test]
-fn patch_test_plane_strain() {
-    run(PlaneState::PlaneStrain);
-}
-
-/// Force-driven variant: the same patch, minimal supports, and the consistent nodal
-/// forces of the constant traction σ·n on the boundary edges. Checks the edge-traction
-/// integration against the same exact constant-stress state.
-#[test]
-fn patch_test_traction_driven() {
-    let mesh = patch();
-    let mat = LinearElastic { e: 1.0e6, nu: 0.25, rho: 1.0, state: PlaneState::PlaneStress };
-    let model = Model::new(&mesh, mat, 0.001).unwrap();
-    let s = mat.d_matrix() * nalgebra::Vector3::new(1e-3, 1e-3, 1e-3);
-    let sig = nalgebra::Matrix2::new(s[0], s[2], s[2], s[1]);
-    let mut bcs = BoundaryConditions::new(&mesh);
-    // Boundary edges counter-clockwise, outward normal = (dy, −dx)/len.
-    for (a, b) in [(0, 1), (1, 2), (2, 3), (3, 0)] {
-        let d = mesh.nodes[b] - mesh.nodes[a];
-        let normal = Vector::new(d.y, -d.x) / d.norm();
-        bcs.edge_traction(&model, a, b, |_| sig * normal).unwrap();
-    }
-    // Remove rigid motion by pinning node 0 to the exact field and node 1's v.
-    bcs.prescribe_node(0, exact_u(mesh.nodes[0])).unwrap();
-    bcs.prescribe(1, 1, exact_u(mesh.nodes[1]).y).unwrap();
-    let sol = fea::solve(&model, &bcs).unwrap();
-    for (a, x) in mesh.nodes.iter().enumerate() {
-        let err = (sol.displacement[a] - exact_u(*x)).norm();
-        assert!(err <= 1e-10 * 1e-3 * 0.24, "node {a}: {err:e}");
-    }
-}
+use cramp::verify::cases::fea::patch_mesh as patch;
 
 /// Bad input gives errors, not panics.
 #[test]

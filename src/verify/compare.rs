@@ -1,0 +1,347 @@
+//! `cramp compare RUN_A RUN_B`: compare two runs field by field — the history
+//! (`history.csv`, rows matched by index, columns by name) and every particle snapshot
+//! (`*.vtk`, files matched by name, particles by their `id` array) — and report, per
+//! field, the largest absolute and relative difference and where it is.
+//!
+//! A value agrees when |a − b| ≤ atol + rtol·|b| (b from RUN_B, the reference run). With
+//! the defaults rtol = atol = 0 that is equality: bit-identical up to the sign of zero.
+//! NaN never agrees. The two runs must have the same structure (history columns and row
+//! count, snapshot files, arrays, particle ids); otherwise [`compare_runs`] returns an
+//! error naming what differs. `docs/compare.md` documents the files a code must write to
+//! be compared.
+
+use crate::output::vtk::{self, PointArray, PointSnapshot};
+use anyhow::{bail, Context};
+use serde::Serialize;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// The agreement criterion |a − b| ≤ atol + rtol·|b|.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Tolerance {
+    pub rtol: f64,
+    pub atol: f64,
+}
+
+impl Tolerance {
+    pub fn agrees(&self, a: f64, b: f64) -> bool {
+        (a - b).abs() <= self.atol + self.rtol * b.abs()
+    }
+}
+
+/// The largest differences of one field over every file and entry compared.
+#[derive(Clone, Debug, Serialize)]
+pub struct FieldDiff {
+    /// `history.<column>` or `particles.<array>[.<component>]`.
+    pub field: String,
+    pub compared: u64,
+    /// Values outside the tolerance.
+    pub violations: u64,
+    pub max_abs: f64,
+    /// Where the largest absolute difference is (file and row/time or particle id), with
+    /// the two values; empty if all values are equal.
+    pub max_abs_at: String,
+    /// Largest |a − b| / |b| (infinite where b = 0 ≠ a).
+    pub max_rel: f64,
+    pub max_rel_at: String,
+    /// The worst violation: the largest |a − b| − (atol + rtol·|b|).
+    pub worst_at: String,
+    #[serde(skip)]
+    worst_excess: f64,
+}
+
+impl FieldDiff {
+    fn new(field: String) -> Self {
+        FieldDiff {
+            field,
+            compared: 0,
+            violations: 0,
+            max_abs: 0.0,
+            max_abs_at: String::new(),
+            max_rel: 0.0,
+            max_rel_at: String::new(),
+            worst_at: String::new(),
+            worst_excess: f64::NEG_INFINITY,
+        }
+    }
+
+    fn add(&mut self, a: f64, b: f64, tol: &Tolerance, at: &dyn Fn() -> String) {
+        self.compared += 1;
+        let d = (a - b).abs();
+        let d = if d.is_nan() && !(a == b) { f64::INFINITY } else { d };
+        if d > self.max_abs {
+            self.max_abs = d;
+            self.max_abs_at = format!("{} (a = {a:e}, b = {b:e})", at());
+        }
+        let rel = if d == 0.0 { 0.0 } else { d / b.abs() };
+        if rel > self.max_rel {
+            self.max_rel = rel;
+            self.max_rel_at = format!("{} (a = {a:e}, b = {b:e})", at());
+        }
+        if !tol.agrees(a, b) {
+            self.violations += 1;
+            let excess = d - (tol.atol + tol.rtol * b.abs());
+            if excess > self.worst_excess || self.worst_at.is_empty() {
+                self.worst_excess = excess;
+                self.worst_at = format!("{} (a = {a:e}, b = {b:e})", at());
+            }
+        }
+    }
+}
+
+/// The result of comparing two runs.
+#[derive(Clone, Debug, Serialize)]
+pub struct Comparison {
+    pub run_a: PathBuf,
+    pub run_b: PathBuf,
+    pub tolerance: Tolerance,
+    pub history_rows: usize,
+    pub snapshots: Vec<String>,
+    pub particles: usize,
+    pub fields: Vec<FieldDiff>,
+}
+
+impl Comparison {
+    /// Whether every compared value agrees.
+    pub fn agree(&self) -> bool {
+        self.fields.iter().all(|f| f.violations == 0)
+    }
+
+    pub fn violations(&self) -> u64 {
+        self.fields.iter().map(|f| f.violations).sum()
+    }
+
+    pub fn compared(&self) -> u64 {
+        self.fields.iter().map(|f| f.compared).sum()
+    }
+
+    /// The report printed by `cramp compare` (format documented in docs/compare.md).
+    pub fn render(&self) -> String {
+        let mut s = format!(
+            "compare {} (a) against {} (b, reference): agree when |a - b| <= atol + rtol*|b|, rtol = {:e}, atol = {:e}\n",
+            self.run_a.display(),
+            self.run_b.display(),
+            self.tolerance.rtol,
+            self.tolerance.atol
+        );
+        s += &format!(
+            "history.csv: {} rows; snapshots: {} file(s){}; {} particles in the last\n",
+            self.history_rows,
+            self.snapshots.len(),
+            if self.snapshots.is_empty() { String::new() } else { format!(" ({} … {})", self.snapshots[0], self.snapshots[self.snapshots.len() - 1]) },
+            self.particles
+        );
+        s += "field\tcompared\tviolations\tmax_abs\tmax_abs_at\tmax_rel\tmax_rel_at\n";
+        for f in &self.fields {
+            s += &format!(
+                "{}\t{}\t{}\t{:e}\t{}\t{:e}\t{}\n",
+                f.field,
+                f.compared,
+                f.violations,
+                f.max_abs,
+                if f.max_abs_at.is_empty() { "-" } else { &f.max_abs_at },
+                f.max_rel,
+                if f.max_rel_at.is_empty() { "-" } else { &f.max_rel_at }
+            );
+        }
+        for f in self.fields.iter().filter(|f| f.violations > 0) {
+            s += &format!("worst violation of {}: {}\n", f.field, f.worst_at);
+        }
+        if self.agree() {
+            s += &format!("AGREE: all {} values within tolerance\n", self.compared());
+        } else {
+            s += &format!(
+                "DISAGREE: {} of {} values outside tolerance in {} field(s)\n",
+                self.violations(),
+                self.compared(),
+                self.fields.iter().filter(|f| f.violations > 0).count()
+            );
+        }
+        s
+    }
+}
+
+/// A parsed history.csv: column names and rows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Csv {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+/// Read a numeric CSV with a header line; errors name the file, line and column.
+pub fn read_csv(path: &Path) -> anyhow::Result<Csv> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    let Some((_, header)) = lines.next() else { bail!("{} is empty (expected a header line)", path.display()) };
+    let columns: Vec<String> = header.split(',').map(|c| c.trim().to_string()).collect();
+    if columns.iter().any(|c| c.is_empty()) {
+        bail!("{} line 1: empty column name in the header '{header}'", path.display());
+    }
+    let mut rows = Vec::new();
+    for (i, line) in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        if cells.len() != columns.len() {
+            bail!("{} line {}: {} values for {} columns", path.display(), i + 1, cells.len(), columns.len());
+        }
+        let row = cells
+            .iter()
+            .zip(&columns)
+            .map(|(c, name)| c.trim().parse::<f64>().with_context(|| format!("{} line {}, column '{name}': '{}' is not a number", path.display(), i + 1, c.trim())))
+            .collect::<anyhow::Result<Vec<f64>>>()?;
+        rows.push(row);
+    }
+    Ok(Csv { columns, rows })
+}
+
+/// The particle snapshot files (`*.vtk`) of a run directory, sorted by name.
+fn snapshot_files(dir: &Path) -> anyhow::Result<Vec<String>> {
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(dir).with_context(|| format!("cannot list {}", dir.display()))? {
+        let name = entry?.file_name().to_string_lossy().into_owned();
+        if name.ends_with(".vtk") {
+            names.push(name);
+        }
+    }
+    names.sort();
+    Ok(names)
+}
+
+/// The scalar components of an array: (suffix, value of point i).
+fn components(array: &PointArray) -> Vec<(&'static str, Box<dyn Fn(usize) -> f64 + '_>)> {
+    match array {
+        PointArray::Scalar(v) => vec![("", Box::new(move |i| v[i]))],
+        PointArray::Vector(v) => vec![(".x", Box::new(move |i| v[i].x)), (".y", Box::new(move |i| v[i].y))],
+        PointArray::Tensor(v) => vec![
+            (".xx", Box::new(move |i| v[i].xx)),
+            (".yy", Box::new(move |i| v[i].yy)),
+            (".zz", Box::new(move |i| v[i].zz)),
+            (".xy", Box::new(move |i| v[i].xy)),
+        ],
+    }
+}
+
+fn kind(a: &PointArray) -> &'static str {
+    match a {
+        PointArray::Scalar(_) => "scalar",
+        PointArray::Vector(_) => "vector",
+        PointArray::Tensor(_) => "tensor",
+    }
+}
+
+/// Particle ids of a snapshot (the `id` array, integers), with a clear error otherwise.
+fn ids(s: &PointSnapshot, file: &str, run: &str) -> anyhow::Result<Vec<u64>> {
+    let Some(PointArray::Scalar(id)) = s.array("id") else {
+        bail!("{run}/{file} has no scalar array 'id': particles cannot be matched");
+    };
+    id.iter()
+        .map(|&x| if x >= 0.0 && x.fract() == 0.0 && x < 9.0e15 { Ok(x as u64) } else { bail!("{run}/{file}: particle id {x} is not a non-negative integer") })
+        .collect()
+}
+
+/// Compare two run directories; see the module doc.
+pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Result<Comparison> {
+    if !(tol.rtol >= 0.0 && tol.atol >= 0.0) {
+        bail!("--rtol and --atol must be zero or positive (got rtol = {}, atol = {})", tol.rtol, tol.atol);
+    }
+    for d in [run_a, run_b] {
+        if !d.is_dir() {
+            bail!("run directory {} does not exist (or is not a directory)", d.display());
+        }
+    }
+    let (ra, rb) = (run_a.display().to_string(), run_b.display().to_string());
+    let mut fields: Vec<FieldDiff> = Vec::new();
+    let field = |name: String, fields: &mut Vec<FieldDiff>| -> usize {
+        match fields.iter().position(|f| f.field == name) {
+            Some(k) => k,
+            None => {
+                fields.push(FieldDiff::new(name));
+                fields.len() - 1
+            }
+        }
+    };
+
+    // History.
+    let (ha, hb) = (read_csv(&run_a.join("history.csv"))?, read_csv(&run_b.join("history.csv"))?);
+    if ha.columns != hb.columns {
+        bail!("history.csv columns differ: {ra} has [{}], {rb} has [{}]", ha.columns.join(","), hb.columns.join(","));
+    }
+    if ha.rows.len() != hb.rows.len() {
+        bail!("history.csv has {} rows in {ra} but {} in {rb}", ha.rows.len(), hb.rows.len());
+    }
+    let time_col = ha.columns.iter().position(|c| c == "time");
+    for (c, name) in ha.columns.iter().enumerate() {
+        let k = field(format!("history.{name}"), &mut fields);
+        for (r, (a, b)) in ha.rows.iter().zip(&hb.rows).enumerate() {
+            let at = || match time_col {
+                Some(t) => format!("history.csv row {} (t = {:e})", r + 1, hb.rows[r][t]),
+                None => format!("history.csv row {}", r + 1),
+            };
+            fields[k].add(a[c], b[c], &tol, &at);
+        }
+    }
+
+    // Snapshots.
+    let (fa, fb) = (snapshot_files(run_a)?, snapshot_files(run_b)?);
+    if fa != fb {
+        let only_a: Vec<_> = fa.iter().filter(|f| !fb.contains(f)).cloned().collect();
+        let only_b: Vec<_> = fb.iter().filter(|f| !fa.contains(f)).cloned().collect();
+        bail!("the runs have different snapshot files: only in {ra}: [{}]; only in {rb}: [{}]", only_a.join(", "), only_b.join(", "));
+    }
+    let mut particles = 0;
+    for file in &fa {
+        let (sa, sb) = (vtk::read_points(run_a.join(file))?, vtk::read_points(run_b.join(file))?);
+        let (ia, ib) = (ids(&sa, file, &ra)?, ids(&sb, file, &rb)?);
+        let index_b: HashMap<u64, usize> = ib.iter().enumerate().map(|(i, &id)| (id, i)).collect();
+        let set_a: std::collections::HashSet<u64> = ia.iter().copied().collect();
+        if index_b.len() != ib.len() {
+            bail!("{rb}/{file}: particle ids are not unique");
+        }
+        if set_a.len() != ia.len() {
+            bail!("{ra}/{file}: particle ids are not unique");
+        }
+        let only_a: Vec<u64> = ia.iter().filter(|id| !index_b.contains_key(id)).copied().collect();
+        if !only_a.is_empty() || ia.len() != ib.len() {
+            let only_b: Vec<u64> = ib.iter().filter(|id| !set_a.contains(id)).copied().collect();
+            let show = |v: &[u64]| v.iter().take(5).map(|x| x.to_string()).collect::<Vec<_>>().join(", ") + if v.len() > 5 { ", …" } else { "" };
+            bail!(
+                "{file}: the particle sets differ: {} particles in {ra}, {} in {rb}; {} ids only in {ra} [{}], {} only in {rb} [{}]",
+                ia.len(),
+                ib.len(),
+                only_a.len(),
+                show(&only_a),
+                only_b.len(),
+                show(&only_b)
+            );
+        }
+        particles = ia.len();
+        let names_a: Vec<&str> = sa.arrays.iter().map(|(n, _)| n.as_str()).collect();
+        let names_b: Vec<&str> = sb.arrays.iter().map(|(n, _)| n.as_str()).collect();
+        let mut sorted_a = names_a.clone();
+        let mut sorted_b = names_b.clone();
+        sorted_a.sort_unstable();
+        sorted_b.sort_unstable();
+        if sorted_a != sorted_b {
+            bail!("{file}: the arrays differ: {ra} has [{}], {rb} has [{}]", names_a.join(", "), names_b.join(", "));
+        }
+        let pos_a = PointArray::Vector(sa.positions.clone());
+        let pos_b = PointArray::Vector(sb.positions.clone());
+        let mut pairs: Vec<(&str, &PointArray, &PointArray)> = vec![("position", &pos_a, &pos_b)];
+        for (name, a) in &sa.arrays {
+            let b = sb.array(name).expect("same array names");
+            if kind(a) != kind(b) {
+                bail!("{file}: array '{name}' is a {} in {ra} but a {} in {rb}", kind(a), kind(b));
+            }
+            pairs.push((name, a, b));
+        }
+        for (name, a, b) in pairs {
+            for ((suffix, ga), (_, gb)) in components(a).into_iter().zip(components(b)) {
+                let k = field(format!("particles.{name}{suffix}"), &mut fields);
+                for (i, &id) in ia.iter().enumerate() {
+                    let j = index_b[&id];
+                    fields[k].add(ga(i), gb(j), &tol, &|| format!("{file} particle id {id}"));
+                }
+            }
+        }
+    }
+    Ok(Comparison { run_a: run_a.to_path_buf(), run_b: run_b.to_path_buf(), tolerance: tol, history_rows: ha.rows.len(), snapshots: fa, particles, fields })
+}

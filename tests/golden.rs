@@ -1,0 +1,48 @@
+//! Golden snapshots of the quick verification suite.
+//!
+//! Each test runs one quick case of `verification/cases.toml` through the library (as
+//! `cramp verify --quick CASE` does), asserts that every check passes against its
+//! independent reference, and then compares the case's headline numbers — each measured
+//! value rounded to the manifest's `golden_digits` significant digits, round-off-level
+//! values reduced to their pass flag, no wall times — with the snapshot in
+//! `golden/<case>.snap`. The snapshot is never the reference: it only makes a change of
+//! the numbers visible, so a regression fails CI. Changing a golden file needs a reason
+//! in the commit message.
+//!
+//! Under CI (`CI=true`) a missing or changed snapshot fails and nothing is written.
+//! Locally a change writes `golden/<case>.snap.new` (ignored by git) and fails; accept
+//! with `cargo insta review` or `INSTA_UPDATE=always cargo test --release --test golden`.
+
+use cramp::verify::{self, Variant};
+
+fn golden(name: &str) {
+    let case = verify::select(&[name.to_string()], Variant::Quick).expect("a registered quick case").remove(0);
+    let result = verify::run_case(&case, Variant::Quick);
+    println!("{}", verify::report::text_table(std::slice::from_ref(&result)));
+    assert!(result.passed, "verification case {name} failed: {:?}", result.errors);
+    let headline = verify::headline(&result).expect("headline numbers");
+    insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false, omit_expression => true }, {
+        insta::assert_json_snapshot!(name, headline);
+    });
+}
+
+macro_rules! golden_case {
+    ($($name:ident),* $(,)?) => {
+        $(
+            #[test]
+            fn $name() {
+                golden(stringify!($name));
+            }
+        )*
+        /// Every case of the quick suite has a test here (and so a golden file).
+        #[test]
+        fn every_quick_case_has_a_golden_test() {
+            let tested = [$(stringify!($name)),*];
+            for case in verify::select(&[], Variant::Quick).unwrap() {
+                assert!(tested.contains(&case.name), "quick case '{}' has no golden_case! entry in tests/golden.rs", case.name);
+            }
+        }
+    };
+}
+
+golden_case!(vibrating_bar, bar_convergence, impact_energy, colliding_disks, crack_patch, fea_patch, fea_cantilever, fea_dcb, cfl_sweep);
