@@ -34,7 +34,11 @@ fn copy_dir(from: &Path, to: &Path) {
 
 fn cramp(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_cramp")).args(args).output().unwrap();
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 /// Rewrite one snapshot of a run with `edit` applied to its arrays.
@@ -55,7 +59,10 @@ fn identical_runs_agree_and_a_perturbed_copy_disagrees_at_the_right_place() {
     println!("{}", c.render());
     assert!(c.agree(), "two runs of the same scene differ:\n{}", c.render());
     assert_eq!(c.snapshots, ["particles_00000.vtk", "particles_00001.vtk", "particles_00002.vtk"]);
-    assert!(c.fields.iter().any(|f| f.field == "particles.stress.xy") && c.fields.iter().any(|f| f.field == "history.kinetic"));
+    assert!(
+        c.fields.iter().any(|f| f.field == "particles.stress.xy")
+            && c.fields.iter().any(|f| f.field == "history.kinetic")
+    );
     let (code, stdout, _) = cramp(&["compare", a.to_str().unwrap(), b.to_str().unwrap()]);
     assert_eq!(code, 0, "{stdout}");
     assert!(stdout.contains("AGREE"), "{stdout}");
@@ -154,7 +161,13 @@ fn structural_mismatches_are_clear_errors() {
 
 #[test]
 fn verify_rejects_unknown_cases_with_the_list() {
-    let (code, stdout, stderr) = cramp(&["verify", "--quick", "--out", std::env::temp_dir().join("cramp-verify-unknown").to_str().unwrap(), "no_such_case"]);
+    let (code, stdout, stderr) = cramp(&[
+        "verify",
+        "--quick",
+        "--out",
+        std::env::temp_dir().join("cramp-verify-unknown").to_str().unwrap(),
+        "no_such_case",
+    ]);
     assert_ne!(code, 0, "{stdout}");
     assert!(stderr.contains("unknown verification case 'no_such_case'") && stderr.contains("fea_patch"), "{stderr}");
 }
@@ -162,13 +175,15 @@ fn verify_rejects_unknown_cases_with_the_list() {
 #[test]
 fn verify_runs_a_case_and_writes_the_report() {
     let out = scratch("report");
-    let (code, stdout, stderr) = cramp(&["verify", "--quick", "--out", out.to_str().unwrap(), "fea_patch", "fea_cantilever"]);
+    let (code, stdout, stderr) =
+        cramp(&["verify", "--quick", "--out", out.to_str().unwrap(), "fea_patch", "fea_cantilever"]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     assert!(stdout.contains("fea_cantilever") && stdout.contains("2 of 2 cases passed"), "{stdout}");
     let index = std::fs::read_to_string(out.join("index.md")).unwrap();
     assert!(index.contains("## fea_patch") && index.contains("fea_cantilever_convergence.png"));
     assert!(out.join("fea_cantilever_convergence.png").is_file());
-    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(json["passed"], true);
     assert_eq!(json["cases"].as_array().unwrap().len(), 2);
     let _ = std::fs::remove_dir_all(&out);

@@ -45,4 +45,14 @@ macro_rules! golden_case {
     };
 }
 
-golden_case!(vibrating_bar, bar_convergence, impact_energy, colliding_disks, crack_patch, fea_patch, fea_cantilever, fea_dcb, cfl_sweep);
+golden_case!(
+    vibrating_bar,
+    bar_convergence,
+    impact_energy,
+    colliding_disks,
+    crack_patch,
+    fea_patch,
+    fea_cantilever,
+    fea_dcb,
+    cfl_sweep
+);

@@ -23,7 +23,8 @@ fn wave_speed_of_material_is_plane_strain_dilatational() {
 fn scene_file_matches_the_exact_mode() {
     let file = Scene::from_toml(cramp::verify::cases::vibrating_bar::SCENE, "vibrating_bar.toml").unwrap();
     let exact = bar_scene(&BarConfig::base(cramp::simulation::Scheme::Usavg)).unwrap();
-    let (k_file, k) = (file.bodies[0].velocity_sine.as_ref().unwrap().k[0], exact.bodies[0].velocity_sine.as_ref().unwrap().k[0]);
+    let (k_file, k) =
+        (file.bodies[0].velocity_sine.as_ref().unwrap().k[0], exact.bodies[0].velocity_sine.as_ref().unwrap().k[0]);
     assert!((k_file - k).abs() <= 1e-15 * k);
     assert!((file.solver.end_time - exact.solver.end_time).abs() < 1e-5);
 }

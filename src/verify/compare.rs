@@ -128,7 +128,11 @@ impl Comparison {
             "history.csv: {} rows; snapshots: {} file(s){}; {} particles in the last\n",
             self.history_rows,
             self.snapshots.len(),
-            if self.snapshots.is_empty() { String::new() } else { format!(" ({} … {})", self.snapshots[0], self.snapshots[self.snapshots.len() - 1]) },
+            if self.snapshots.is_empty() {
+                String::new()
+            } else {
+                format!(" ({} … {})", self.snapshots[0], self.snapshots[self.snapshots.len() - 1])
+            },
             self.particles
         );
         s += "field\tcompared\tviolations\tmax_abs\tmax_abs_at\tmax_rel\tmax_rel_at\n";
@@ -186,7 +190,11 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Csv> {
         let row = cells
             .iter()
             .zip(&columns)
-            .map(|(c, name)| c.trim().parse::<f64>().with_context(|| format!("{} line {}, column '{name}': '{}' is not a number", path.display(), i + 1, c.trim())))
+            .map(|(c, name)| {
+                c.trim().parse::<f64>().with_context(|| {
+                    format!("{} line {}, column '{name}': '{}' is not a number", path.display(), i + 1, c.trim())
+                })
+            })
             .collect::<anyhow::Result<Vec<f64>>>()?;
         rows.push(row);
     }
@@ -206,8 +214,11 @@ fn snapshot_files(dir: &Path) -> anyhow::Result<Vec<String>> {
     Ok(names)
 }
 
+/// Value of a component at point i.
+type Component<'a> = Box<dyn Fn(usize) -> f64 + 'a>;
+
 /// The scalar components of an array: (suffix, value of point i).
-fn components(array: &PointArray) -> Vec<(&'static str, Box<dyn Fn(usize) -> f64 + '_>)> {
+fn components(array: &PointArray) -> Vec<(&'static str, Component<'_>)> {
     match array {
         PointArray::Scalar(v) => vec![("", Box::new(move |i| v[i]))],
         PointArray::Vector(v) => vec![(".x", Box::new(move |i| v[i].x)), (".y", Box::new(move |i| v[i].y))],
@@ -234,7 +245,13 @@ fn ids(s: &PointSnapshot, file: &str, run: &str) -> anyhow::Result<Vec<u64>> {
         bail!("{run}/{file} has no scalar array 'id': particles cannot be matched");
     };
     id.iter()
-        .map(|&x| if x >= 0.0 && x.fract() == 0.0 && x < 9.0e15 { Ok(x as u64) } else { bail!("{run}/{file}: particle id {x} is not a non-negative integer") })
+        .map(|&x| {
+            if x >= 0.0 && x.fract() == 0.0 && x < 9.0e15 {
+                Ok(x as u64)
+            } else {
+                bail!("{run}/{file}: particle id {x} is not a non-negative integer")
+            }
+        })
         .collect()
 }
 
@@ -285,7 +302,11 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
     if fa != fb {
         let only_a: Vec<_> = fa.iter().filter(|f| !fb.contains(f)).cloned().collect();
         let only_b: Vec<_> = fb.iter().filter(|f| !fa.contains(f)).cloned().collect();
-        bail!("the runs have different snapshot files: only in {ra}: [{}]; only in {rb}: [{}]", only_a.join(", "), only_b.join(", "));
+        bail!(
+            "the runs have different snapshot files: only in {ra}: [{}]; only in {rb}: [{}]",
+            only_a.join(", "),
+            only_b.join(", ")
+        );
     }
     let mut particles = 0;
     for file in &fa {
@@ -302,7 +323,10 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
         let only_a: Vec<u64> = ia.iter().filter(|id| !index_b.contains_key(id)).copied().collect();
         if !only_a.is_empty() || ia.len() != ib.len() {
             let only_b: Vec<u64> = ib.iter().filter(|id| !set_a.contains(id)).copied().collect();
-            let show = |v: &[u64]| v.iter().take(5).map(|x| x.to_string()).collect::<Vec<_>>().join(", ") + if v.len() > 5 { ", …" } else { "" };
+            let show = |v: &[u64]| {
+                v.iter().take(5).map(|x| x.to_string()).collect::<Vec<_>>().join(", ")
+                    + if v.len() > 5 { ", …" } else { "" }
+            };
             bail!(
                 "{file}: the particle sets differ: {} particles in {ra}, {} in {rb}; {} ids only in {ra} [{}], {} only in {rb} [{}]",
                 ia.len(),
@@ -343,5 +367,13 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
             }
         }
     }
-    Ok(Comparison { run_a: run_a.to_path_buf(), run_b: run_b.to_path_buf(), tolerance: tol, history_rows: ha.rows.len(), snapshots: fa, particles, fields })
+    Ok(Comparison {
+        run_a: run_a.to_path_buf(),
+        run_b: run_b.to_path_buf(),
+        tolerance: tol,
+        history_rows: ha.rows.len(),
+        snapshots: fa,
+        particles,
+        fields,
+    })
 }

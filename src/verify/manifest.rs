@@ -95,7 +95,12 @@ impl Manifest {
         for c in &m.cases {
             anyhow::ensure!(!c.checks.is_empty(), "manifest case '{}' has no [[case.check]]", c.name);
             for k in &c.checks {
-                anyhow::ensure!(k.tolerance.is_finite(), "manifest case '{}' check '{}': tolerance must be finite", c.name, k.id);
+                anyhow::ensure!(
+                    k.tolerance.is_finite(),
+                    "manifest case '{}' check '{}': tolerance must be finite",
+                    c.name,
+                    k.id
+                );
             }
         }
         Ok(m)
@@ -104,7 +109,9 @@ impl Manifest {
     /// The compiled-in manifest, parsed once.
     pub fn get() -> anyhow::Result<&'static Manifest> {
         static M: OnceLock<Result<Manifest, String>> = OnceLock::new();
-        M.get_or_init(|| Manifest::parse(TEXT).map_err(|e| format!("{e:#}"))).as_ref().map_err(|e| anyhow::anyhow!(e.clone()))
+        M.get_or_init(|| Manifest::parse(TEXT).map_err(|e| format!("{e:#}")))
+            .as_ref()
+            .map_err(|e| anyhow::anyhow!(e.clone()))
     }
 
     pub fn case(&self, name: &str) -> Option<&CaseEntry> {

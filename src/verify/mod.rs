@@ -224,7 +224,11 @@ pub fn run_case(case: &Case, variant: Variant) -> CaseResult {
         figures: Vec::new(),
         notes: Vec::new(),
     };
-    let manifest = match Manifest::get().and_then(|m| m.case(case.name).cloned().ok_or_else(|| anyhow!("case '{}' has no [[case]] in verification/cases.toml", case.name))) {
+    let manifest = match Manifest::get().and_then(|m| {
+        m.case(case.name)
+            .cloned()
+            .ok_or_else(|| anyhow!("case '{}' has no [[case]] in verification/cases.toml", case.name))
+    }) {
         Ok(m) => m,
         Err(e) => {
             result.errors.push(format!("{e:#}"));
@@ -240,7 +244,9 @@ pub fn run_case(case: &Case, variant: Variant) -> CaseResult {
     };
     for m in &out.measurements {
         let Some(check) = manifest.checks.iter().find(|c| c.id == m.check) else {
-            result.errors.push(format!("measurement '{}' names no check of case '{}' in the manifest", m.check, case.name));
+            result
+                .errors
+                .push(format!("measurement '{}' names no check of case '{}' in the manifest", m.check, case.name));
             continue;
         };
         let (error, pass) = evaluate(check, m.value, m.reference);
@@ -297,7 +303,9 @@ pub fn headline(result: &CaseResult) -> anyhow::Result<serde_json::Value> {
             v
         })
         .collect();
-    Ok(serde_json::json!({ "case": result.name, "variant": result.variant, "passed": result.passed, "errors": result.errors, "rows": rows }))
+    Ok(
+        serde_json::json!({ "case": result.name, "variant": result.variant, "passed": result.passed, "errors": result.errors, "rows": rows }),
+    )
 }
 
 #[cfg(test)]
@@ -311,7 +319,11 @@ mod tests {
             assert!(m.case(c.name).is_some(), "case '{}' has no [[case]] in verification/cases.toml", c.name);
         }
         for c in &m.cases {
-            assert!(cases::REGISTRY.iter().any(|r| r.name == c.name), "manifest case '{}' is not in cases::REGISTRY", c.name);
+            assert!(
+                cases::REGISTRY.iter().any(|r| r.name == c.name),
+                "manifest case '{}' is not in cases::REGISTRY",
+                c.name
+            );
             for s in &c.scenes {
                 let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("verification").join(s);
                 assert!(path.is_file(), "case '{}' names scene {s}, which is not in verification/", c.name);
@@ -321,13 +333,20 @@ mod tests {
 
     #[test]
     fn evaluation_follows_the_compare_kind() {
-        let check = |compare, tolerance| Check { id: "x".into(), quantity: String::new(), compare, tolerance, why: String::new(), golden_digits: 4 };
-        assert_eq!(evaluate(&check(CompareKind::Relative, 0.01), 1.005, 1.0).1, true);
-        assert_eq!(evaluate(&check(CompareKind::Relative, 0.01), 1.02, 1.0).1, false);
-        assert_eq!(evaluate(&check(CompareKind::Absolute, 0.0), 0.0, 0.0).1, true);
-        assert_eq!(evaluate(&check(CompareKind::Absolute, 0.0), 1e-300, 0.0).1, false);
-        assert_eq!(evaluate(&check(CompareKind::AtMost, 1.0), 1.0, f64::NAN).1, true);
-        assert_eq!(evaluate(&check(CompareKind::AtLeast, 1.0), 0.5, f64::NAN).1, false);
+        let check = |compare, tolerance| Check {
+            id: "x".into(),
+            quantity: String::new(),
+            compare,
+            tolerance,
+            why: String::new(),
+            golden_digits: 4,
+        };
+        assert!(evaluate(&check(CompareKind::Relative, 0.01), 1.005, 1.0).1);
+        assert!(!evaluate(&check(CompareKind::Relative, 0.01), 1.02, 1.0).1);
+        assert!(evaluate(&check(CompareKind::Absolute, 0.0), 0.0, 0.0).1);
+        assert!(!evaluate(&check(CompareKind::Absolute, 0.0), 1e-300, 0.0).1);
+        assert!(evaluate(&check(CompareKind::AtMost, 1.0), 1.0, f64::NAN).1);
+        assert!(!evaluate(&check(CompareKind::AtLeast, 1.0), 0.5, f64::NAN).1);
         for kind in [CompareKind::Relative, CompareKind::Absolute, CompareKind::AtMost, CompareKind::AtLeast] {
             assert!(!evaluate(&check(kind, 1.0), f64::NAN, 1.0).1, "NaN passed a {kind:?} check");
         }

@@ -48,7 +48,16 @@ fn table_rows(results: &[CaseResult]) -> Vec<[String; 8]> {
             ]);
         }
         for e in &r.errors {
-            rows.push([if r.rows.is_empty() { r.name.clone() } else { String::new() }, format!("error: {e}"), String::new(), String::new(), String::new(), String::new(), "FAIL".into(), wall.clone()]);
+            rows.push([
+                if r.rows.is_empty() { r.name.clone() } else { String::new() },
+                format!("error: {e}"),
+                String::new(),
+                String::new(),
+                String::new(),
+                String::new(),
+                "FAIL".into(),
+                wall.clone(),
+            ]);
         }
     }
     rows
@@ -59,14 +68,20 @@ const HEADER: [&str; 8] = ["case", "quantity", "reference", "result", "error", "
 /// The plain-text table for the terminal.
 pub fn text_table(results: &[CaseResult]) -> String {
     let rows = table_rows(results);
-    let width = |c: usize| rows.iter().map(|r| r[c].chars().count()).chain([HEADER[c].chars().count()]).max().unwrap_or(0).min(70);
+    let width = |c: usize| {
+        rows.iter().map(|r| r[c].chars().count()).chain([HEADER[c].chars().count()]).max().unwrap_or(0).min(70)
+    };
     let widths: Vec<usize> = (0..8).map(width).collect();
     let line = |cells: &[String]| {
         let mut s = String::new();
         for (c, cell) in cells.iter().enumerate() {
-            let cell: String = if cell.chars().count() > widths[c] { cell.chars().take(widths[c] - 1).chain(['…']).collect() } else { cell.clone() };
+            let cell: String = if cell.chars().count() > widths[c] {
+                cell.chars().take(widths[c] - 1).chain(['…']).collect()
+            } else {
+                cell.clone()
+            };
             let pad = widths[c] - cell.chars().count();
-            if c >= 2 && c <= 4 {
+            if (2..=4).contains(&c) {
                 s += &format!("{}{}  ", " ".repeat(pad), cell);
             } else {
                 s += &format!("{}{}  ", cell, " ".repeat(pad));
@@ -108,7 +123,12 @@ struct ResultsJson<'a> {
 /// Write index.md, results.json and the figures into `dir`. A figure that cannot be
 /// drawn is reported in the index (and returned as an error list) but does not stop the
 /// report.
-pub fn write_report(dir: &Path, results: &[CaseResult], variant: Variant, total_wall_s: f64) -> anyhow::Result<Vec<String>> {
+pub fn write_report(
+    dir: &Path,
+    results: &[CaseResult],
+    variant: Variant,
+    total_wall_s: f64,
+) -> anyhow::Result<Vec<String>> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create report directory {}", dir.display()))?;
     let manifest = Manifest::get()?;
     let passed = results.iter().all(|r| r.passed);
@@ -154,7 +174,11 @@ pub fn write_report(dir: &Path, results: &[CaseResult], variant: Variant, total_
         writeln!(md, "* Reference: {}", c.reference)?;
         writeln!(md, "* Citation: {}", c.citation)?;
         if !c.scenes.is_empty() {
-            writeln!(md, "* Scenes: {}", c.scenes.iter().map(|s| format!("`verification/{s}`")).collect::<Vec<_>>().join(", "))?;
+            writeln!(
+                md,
+                "* Scenes: {}",
+                c.scenes.iter().map(|s| format!("`verification/{s}`")).collect::<Vec<_>>().join(", ")
+            )?;
         }
         let run = match variant {
             Variant::Quick => c.quick.as_deref().unwrap_or(""),
@@ -163,7 +187,8 @@ pub fn write_report(dir: &Path, results: &[CaseResult], variant: Variant, total_
         writeln!(md, "* This run ({variant_name}): {run}; wall time {:.2} s\n", r.wall_s)?;
         writeln!(md, "| quantity | reference | result | error | tolerance | |\n|---|---|---|---|---|---|")?;
         for row in &r.rows {
-            let what = if row.label.is_empty() { row.quantity.clone() } else { format!("{} [{}]", row.quantity, row.label) };
+            let what =
+                if row.label.is_empty() { row.quantity.clone() } else { format!("{} [{}]", row.quantity, row.label) };
             writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {} |",

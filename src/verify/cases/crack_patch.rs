@@ -116,7 +116,9 @@ pub fn differing_bits(full: &Simulation, half: &Simulation) -> anyhow::Result<(u
                 // of zero is not a value, so zeros compare equal; all else by bits.
                 if (a + 0.0).to_bits() != (b + 0.0).to_bits() {
                     count += 1;
-                    first.get_or_insert_with(|| format!("bottom particle at {x0:?}: {what} {a:e} is not the mirror {b:e}"));
+                    first.get_or_insert_with(|| {
+                        format!("bottom particle at {x0:?}: {what} {a:e} is not the mirror {b:e}")
+                    });
                 }
             }
         }
@@ -188,6 +190,10 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
     let (bonded, half) = scenes(h, false)?;
     let n = run_and_compare(&bonded, &half, 10.0, true)?;
     out.measure("negative_control", "crack removed (bonded beam)", n.differing as f64, f64::NAN);
-    out.note(format!("Negative control (crack removed): {} differing values by t = 10; first: {}", n.differing, n.first.unwrap_or_default()));
+    out.note(format!(
+        "Negative control (crack removed): {} differing values by t = 10; first: {}",
+        n.differing,
+        n.first.unwrap_or_default()
+    ));
     Ok(out)
 }

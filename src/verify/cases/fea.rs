@@ -64,11 +64,15 @@ pub fn patch_displacement_driven(state: PlaneState) -> anyhow::Result<PatchError
     }
     let sol = fea::solve(&model, &bcs)?;
     let u_scale = 1e-3 * 0.24;
-    let displacement = (0..mesh.n_nodes()).map(|a| (sol.displacement[a] - patch_exact_u(mesh.nodes[a])).norm() / u_scale).fold(0.0, f64::max);
+    let displacement = (0..mesh.n_nodes())
+        .map(|a| (sol.displacement[a] - patch_exact_u(mesh.nodes[a])).norm() / u_scale)
+        .fold(0.0, f64::max);
     let s = mat.d_matrix() * nalgebra::Vector3::new(1e-3, 1e-3, 1e-3);
     let zz = if state == PlaneState::PlaneStrain { mat.nu * (s[0] + s[1]) } else { 0.0 };
     let scale = s.norm();
-    let err = |t: &Sym| [t.xx - s[0], t.yy - s[1], t.xy - s[2], t.zz - zz].iter().map(|v| v.abs()).fold(0.0, f64::max) / scale;
+    let err = |t: &Sym| {
+        [t.xx - s[0], t.yy - s[1], t.xy - s[2], t.zz - zz].iter().map(|v| v.abs()).fold(0.0, f64::max) / scale
+    };
     let stress = sol.gauss_stress.iter().flatten().chain(sol.nodal_stress.iter()).map(err).fold(0.0, f64::max);
     // Interior nodes are free and unloaded: their residual must vanish; the boundary
     // reactions must be in equilibrium.
@@ -98,7 +102,12 @@ pub fn patch_traction_driven() -> anyhow::Result<f64> {
     bcs.prescribe_node(0, patch_exact_u(mesh.nodes[0]))?;
     bcs.prescribe(1, 1, patch_exact_u(mesh.nodes[1]).y)?;
     let sol = fea::solve(&model, &bcs)?;
-    Ok(mesh.nodes.iter().enumerate().map(|(a, x)| (sol.displacement[a] - patch_exact_u(*x)).norm() / (1e-3 * 0.24)).fold(0.0, f64::max))
+    Ok(mesh
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(a, x)| (sol.displacement[a] - patch_exact_u(*x)).norm() / (1e-3 * 0.24))
+        .fold(0.0, f64::max))
 }
 
 /// Case `fea_patch`.
@@ -163,7 +172,9 @@ impl Cantilever {
         let d = -pl * l * l / (2.0 * e * i) - pl * c * c / (2.0 * g * i);
         let h = pl * l.powi(3) / (3.0 * e * i) + pl * c * c * l / (2.0 * g * i);
         Vector::new(
-            -pl * x * x * y / (2.0 * e * i) - nu * pl * y.powi(3) / (6.0 * e * i) + pl * y.powi(3) / (6.0 * g * i) + ee * y,
+            -pl * x * x * y / (2.0 * e * i) - nu * pl * y.powi(3) / (6.0 * e * i)
+                + pl * y.powi(3) / (6.0 * g * i)
+                + ee * y,
             nu * pl * x * y * y / (2.0 * e * i) + pl * x.powi(3) / (6.0 * e * i) + d * x + h,
         )
     }
@@ -176,7 +187,8 @@ impl Cantilever {
 
     pub fn tip_deflection(&self) -> f64 {
         let (l, c, pl) = (self.length, self.half_depth, self.load);
-        pl * l.powi(3) / (3.0 * self.mat.e * self.inertia()) + pl * l / ((2.0 / 3.0) * self.mat.shear_modulus() * 2.0 * c)
+        pl * l.powi(3) / (3.0 * self.mat.e * self.inertia())
+            + pl * l / ((2.0 / 3.0) * self.mat.shear_modulus() * 2.0 * c)
     }
 
     /// Solve on a (5m) × m mesh of square elements; return the tip deflection v(0, 0).
@@ -217,7 +229,12 @@ pub fn run_cantilever(variant: Variant) -> anyhow::Result<CaseOutput> {
         let v = cant.solve_tip(m)?;
         let h = 2.0 * cant.half_depth / m as f64;
         res.push((h, v, ((v - v_ref) / v_ref).abs()));
-        out.note(format!("mesh {:>3} × {:>2} (h = {h}): v_tip = {v:.10}, exact {v_ref:.10}, |rel. error| {:.4e}", 5 * m, m, (v - v_ref).abs() / v_ref));
+        out.note(format!(
+            "mesh {:>3} × {:>2} (h = {h}): v_tip = {v:.10}, exact {v_ref:.10}, |rel. error| {:.4e}",
+            5 * m,
+            m,
+            (v - v_ref).abs() / v_ref
+        ));
     }
     let n = res.len();
     for k in n - 3..n - 1 {
@@ -232,7 +249,11 @@ pub fn run_cantilever(variant: Variant) -> anyhow::Result<CaseOutput> {
         "fea_cantilever_convergence.png",
         "Relative tip-deflection error of the Q4 cantilever against Timoshenko & Goodier's elasticity solution, \
          versus element size, with the least-squares power law (Q4 theory: order 2).",
-        PlotSpec::new("Q4 cantilever: tip-deflection error vs element size", "element size h", "|v_tip − v_exact| / v_exact"),
+        PlotSpec::new(
+            "Q4 cantilever: tip-deflection error vs element size",
+            "element size h",
+            "|v_tip − v_exact| / v_exact",
+        ),
         Plot::Convergence { points, label: "Q4, square elements".into() },
     );
     Ok(out)
@@ -264,7 +285,11 @@ pub fn dcb(h: f64, rotated: bool, domains_mm: &[f64]) -> anyhow::Result<Vec<JRes
     let mat = LinearElastic { e: DCB_E, nu: DCB_NU, rho: 1.0e-9, state: PlaneState::PlaneStress };
     // Rotation by +90°: (x, y) → (−y, x). The rotated body occupies [−24, 0] × [0, 100].
     let rot = |p: Vector| if rotated { Vector::new(-p.y, p.x) } else { p };
-    let grid = if rotated { Grid::new(Vector::new(-24.0, 0.0), Vector::new(h, h), ny, nx)? } else { Grid::new(Vector::new(0.0, 0.0), Vector::new(h, h), nx, ny)? };
+    let grid = if rotated {
+        Grid::new(Vector::new(-24.0, 0.0), Vector::new(h, h), ny, nx)?
+    } else {
+        Grid::new(Vector::new(0.0, 0.0), Vector::new(h, h), nx, ny)?
+    };
     let mut gm = GridMesh::from_grid(grid, |_, _, _| true)?;
     let cracks = gm.cut_cracks(&[vec![rot(Vector::new(0.0, 12.0)), rot(Vector::new(50.0, 12.0))]])?;
     anyhow::ensure!(cracks[0].tips[0].is_none(), "the mouth at the loaded end must not be a tip");
@@ -341,7 +366,12 @@ pub fn run_dcb(variant: Variant) -> anyhow::Result<CaseOutput> {
     // Richardson limit 2 K(h) − K(2h).
     let n = k_int.len();
     let (a, b, c) = (k_int[n - 3].1, k_int[n - 2].1, k_int[n - 1].1);
-    out.measure("interaction_order", &format!("h = {} … {} mm", k_int[n - 3].0, k_int[n - 1].0), ((b - a) / (c - b)).log2(), 1.0);
+    out.measure(
+        "interaction_order",
+        &format!("h = {} … {} mm", k_int[n - 3].0, k_int[n - 1].0),
+        ((b - a) / (c - b)).log2(),
+        1.0,
+    );
     out.measure("interaction_richardson", "", 2.0 * c - b, kr);
     let kref_line: Vec<(f64, f64)> = [hs[hs.len() - 1], hs[0]].iter().map(|&h| (h, kr)).collect();
     out.figure(

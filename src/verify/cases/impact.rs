@@ -46,7 +46,10 @@ pub fn total_energy(s: &Simulation) -> f64 {
 /// Total particle momentum, compensated sums.
 pub fn momentum(s: &Simulation) -> crate::dim::Vector {
     let p = &s.particles;
-    crate::dim::Vector::new(csum((0..p.len()).map(|i| p.mass[i] * p.v[i].x)), csum((0..p.len()).map(|i| p.mass[i] * p.v[i].y)))
+    crate::dim::Vector::new(
+        csum((0..p.len()).map(|i| p.mass[i] * p.v[i].x)),
+        csum((0..p.len()).map(|i| p.mass[i] * p.v[i].y)),
+    )
 }
 
 /// What one impact run measured.
@@ -159,7 +162,9 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
         "impact_energy_zoom.png",
         "The same without USL, whose error dwarfs the others.",
         PlotSpec::new("Delrin impact: energy error, MUSL / USF / USAVG", "time t (ms)", "(E − E0) / E0"),
-        Plot::Lines([Scheme::Musl, Scheme::Usf, Scheme::Usavg].iter().map(|&s| Series::line(scheme_name(s), by(s))).collect()),
+        Plot::Lines(
+            [Scheme::Musl, Scheme::Usf, Scheme::Usavg].iter().map(|&s| Series::line(scheme_name(s), by(s))).collect(),
+        ),
     );
     Ok(out)
 }

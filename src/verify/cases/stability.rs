@@ -71,15 +71,22 @@ pub fn run_block(scheme: Scheme, fraction: f64, max_steps: u64) -> anyhow::Resul
     Ok(out)
 }
 
-/// Bisect the largest stable fraction of h/c_d in [lo, hi] to within `tol`: returns
-/// (largest stable, smallest unstable, every evaluated (fraction, outcome)).
-pub fn largest_stable_fraction(scheme: Scheme, max_steps: u64, tol: f64) -> anyhow::Result<(f64, f64, Vec<(f64, StepOutcome)>)> {
+/// Largest stable fraction, smallest unstable fraction, every evaluated (fraction, outcome).
+pub type Bisection = (f64, f64, Vec<(f64, StepOutcome)>);
+
+/// Bisect the largest stable fraction of h/c_d in [0.5, 3] to within `tol`.
+pub fn largest_stable_fraction(scheme: Scheme, max_steps: u64, tol: f64) -> anyhow::Result<Bisection> {
     let (mut lo, mut hi) = (0.5, 3.0);
     let mut seen = Vec::new();
     for f in [lo, hi] {
         seen.push((f, run_block(scheme, f, max_steps)?));
     }
-    anyhow::ensure!(seen[0].1.error.is_none(), "{}: unstable already at 0.5 h/c_d: {:?}", scheme_name(scheme), seen[0].1.error);
+    anyhow::ensure!(
+        seen[0].1.error.is_none(),
+        "{}: unstable already at 0.5 h/c_d: {:?}",
+        scheme_name(scheme),
+        seen[0].1.error
+    );
     anyhow::ensure!(seen[1].1.error.is_some(), "{}: still running at 3 h/c_d", scheme_name(scheme));
     while hi - lo > tol {
         let mid = 0.5 * (lo + hi);

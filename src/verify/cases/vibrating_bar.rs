@@ -96,7 +96,15 @@ pub struct BarConfig {
 impl BarConfig {
     /// The scene file's configuration with the given scheme, 4 periods, checked.
     pub fn base(scheme: Scheme) -> Self {
-        BarConfig { scheme, shape: ShapeKind::Ugimp, cell: 1.0, ppc: 2, fix_exterior: false, periods: 4.0, checked: true }
+        BarConfig {
+            scheme,
+            shape: ShapeKind::Ugimp,
+            cell: 1.0,
+            ppc: 2,
+            fix_exterior: false,
+            periods: 4.0,
+            checked: true,
+        }
     }
 }
 
@@ -116,7 +124,10 @@ pub fn bar_scene(cfg: &BarConfig) -> anyhow::Result<Scene> {
     s.solver.checked = cfg.checked;
     s.grid.cell = [cfg.cell, cfg.cell];
     if cfg.fix_exterior {
-        s.boundary[0].nodes = Selection::Region { min: [s.grid.origin[0], s.grid.origin[1]], max: [0.0, s.grid.origin[1] + s.grid.size[1]] };
+        s.boundary[0].nodes = Selection::Region {
+            min: [s.grid.origin[0], s.grid.origin[1]],
+            max: [0.0, s.grid.origin[1] + s.grid.size[1]],
+        };
     }
     s.validate()?;
     Ok(s)
@@ -235,28 +246,34 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
     for fix_exterior in [false, true] {
         for scheme in SCHEMES {
             let cfg = BarConfig { cell, fix_exterior, ..BarConfig::base(scheme) };
-            let r = run_bar(&bar_scene(&cfg)?).with_context(|| format!("{} (exterior fixed: {fix_exterior})", scheme_name(scheme)))?;
+            let r = run_bar(&bar_scene(&cfg)?)
+                .with_context(|| format!("{} (exterior fixed: {fix_exterior})", scheme_name(scheme)))?;
             runs.push((scheme, fix_exterior, r));
         }
     }
     let wdt = bar.omega() * runs[0].2.dt;
-    let find = |s: Scheme, fx: bool| runs.iter().find(|r| r.0 == s && r.1 == fx).map(|r| &r.2).expect("every scheme ran");
+    let find =
+        |s: Scheme, fx: bool| runs.iter().find(|r| r.0 == s && r.1 == fx).map(|r| &r.2).expect("every scheme ran");
     for (scheme, fx, r) in &runs {
         let name = scheme_name(*scheme);
         let label = if *fx { format!("{name}, x ≤ 0 fixed") } else { name.to_string() };
         // USL with only the x = 0 line fixed has the vanishing-mass exterior node (module doc).
-        if !(*scheme == Scheme::Usl && !fx) {
+        let vanishing_mass_node = *scheme == Scheme::Usl && !fx;
+        if !vanishing_mass_node {
             out.measure("period", &label, r.period, t_exact);
             out.measure("secular_drift", &label, r.secular_per_period, 0.0);
         }
-        if matches!(scheme, Scheme::Usl | Scheme::Musl | Scheme::Usf) && !(*scheme == Scheme::Usl && !fx) {
+        if matches!(scheme, Scheme::Usl | Scheme::Musl | Scheme::Usf) && !vanishing_mass_node {
             out.measure("symplectic_euler_amplitude", &label, r.max_rel_drift / (wdt / 2.0), 1.0);
         }
     }
     let usavg = find(Scheme::Usavg, false);
     out.measure("usavg_amplitude", "", usavg.max_rel_drift / (wdt * wdt / 4.0), 1.0);
     out.measure("usavg_energy", "", usavg.max_rel_drift, 0.0);
-    let best_other = [Scheme::Usl, Scheme::Musl, Scheme::Usf].iter().map(|&s| find(s, false).max_rel_drift).fold(f64::INFINITY, f64::min);
+    let best_other = [Scheme::Usl, Scheme::Musl, Scheme::Usf]
+        .iter()
+        .map(|&s| find(s, false).max_rel_drift)
+        .fold(f64::INFINITY, f64::min);
     out.measure("usavg_best", "", usavg.max_rel_drift / best_other, f64::NAN);
 
     let usl = find(Scheme::Usl, false);
@@ -268,9 +285,15 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
         usl.max_rel_drift,
         usl.secular_per_period
     ));
-    out.note(format!("Δt = {:.4e}, ωΔt/2 = {:.3e}, (ωΔt)²/4 = {:.3e}, exact period 4L/c_d = {t_exact:.6}.", runs[0].2.dt, wdt / 2.0, wdt * wdt / 4.0));
+    out.note(format!(
+        "Δt = {:.4e}, ωΔt/2 = {:.3e}, (ωΔt)²/4 = {:.3e}, exact period 4L/c_d = {t_exact:.6}.",
+        runs[0].2.dt,
+        wdt / 2.0,
+        wdt * wdt / 4.0
+    ));
 
-    let series: Vec<Series> = SCHEMES.iter().map(|&s| Series::line(scheme_name(s), find(s, true).energy_history.clone())).collect();
+    let series: Vec<Series> =
+        SCHEMES.iter().map(|&s| Series::line(scheme_name(s), find(s, true).energy_history.clone())).collect();
     out.figure(
         "vibrating_bar_energy.png",
         "Relative total-energy error (E − E0)/E0 of the vibrating bar per update scheme (every node x ≤ 0 fixed). \
@@ -278,7 +301,10 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
         PlotSpec::new("Vibrating bar: energy error per update scheme", "time t", "(E − E0) / E0"),
         Plot::Lines(series),
     );
-    let series: Vec<Series> = [Scheme::Musl, Scheme::Usavg].iter().map(|&s| Series::line(scheme_name(s), find(s, false).energy_history.clone())).collect();
+    let series: Vec<Series> = [Scheme::Musl, Scheme::Usavg]
+        .iter()
+        .map(|&s| Series::line(scheme_name(s), find(s, false).energy_history.clone()))
+        .collect();
     out.figure(
         "vibrating_bar_energy_zoom.png",
         "The same for MUSL and USAVG with only the x = 0 line fixed (the scene file as written).",
@@ -286,12 +312,16 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
         Plot::Lines(series),
     );
     let amp = 2.0 * bar.v0 / PI;
-    let exact: Vec<(f64, f64)> = (0..=400).map(|i| i as f64 * 4.0 * t_exact / 400.0).map(|t| (t, amp * (bar.omega() * t).cos())).collect();
+    let exact: Vec<(f64, f64)> =
+        (0..=400).map(|i| i as f64 * 4.0 * t_exact / 400.0).map(|t| (t, amp * (bar.omega() * t).cos())).collect();
     out.figure(
         "vibrating_bar_vcm.png",
         "Centre-of-mass velocity of the bar (USAVG) against the closed form (2v0/π) cos(ωt), ω = πc_d/(2L).",
         PlotSpec::new("Vibrating bar: centre-of-mass velocity", "time t", "v_cm"),
-        Plot::Lines(vec![Series::line("cramp, USAVG", usavg.vcm_history.clone()), Series::reference("exact (2v0/π) cos ωt", exact)]),
+        Plot::Lines(vec![
+            Series::line("cramp, USAVG", usavg.vcm_history.clone()),
+            Series::reference("exact (2v0/π) cos ωt", exact),
+        ]),
     );
     Ok(out)
 }
@@ -317,7 +347,10 @@ pub fn run_convergence(variant: Variant) -> anyhow::Result<CaseOutput> {
         let err = ((r.period - t_exact) / t_exact).abs();
         out.measure("period_error", &format!("h = {cell}"), err, 0.0);
         points.push((cell, err));
-        out.note(format!("h = {cell}: period {:.8} (exact {t_exact:.8}), |error| {err:.3e}, {} steps, {:.2} s", r.period, r.steps, r.wall_s));
+        out.note(format!(
+            "h = {cell}: period {:.8} (exact {t_exact:.8}), |error| {err:.3e}, {} steps, {:.2} s",
+            r.period, r.steps, r.wall_s
+        ));
     }
     let order = crate::report::plot::fit_order(&points);
     out.measure("order", "", order, 2.0);
