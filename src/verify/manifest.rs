@@ -24,14 +24,20 @@ pub enum CompareKind {
 }
 
 impl CompareKind {
-    /// How the tolerance reads in the table, e.g. "≤ 5e-3 rel".
+    /// How the tolerance reads in the tables, e.g. "≤ 5e-3 rel".
     pub fn describe(&self, tol: f64) -> String {
+        let t = super::report::num(tol);
         match self {
-            CompareKind::Relative => format!("≤ {tol:.3e} rel"),
-            CompareKind::Absolute => format!("≤ {tol:.3e} abs"),
-            CompareKind::AtMost => format!("value ≤ {tol:.4e}"),
-            CompareKind::AtLeast => format!("value ≥ {tol:.4e}"),
+            CompareKind::Relative => format!("≤ {t} rel"),
+            CompareKind::Absolute => format!("≤ {t} abs"),
+            CompareKind::AtMost => format!("value ≤ {t}"),
+            CompareKind::AtLeast => format!("value ≥ {t}"),
         }
+    }
+
+    /// Whether the error column means anything (bounds compare the value itself).
+    pub fn has_error(&self) -> bool {
+        matches!(self, CompareKind::Relative | CompareKind::Absolute)
     }
 }
 

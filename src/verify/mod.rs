@@ -331,6 +331,18 @@ mod tests {
         }
     }
 
+    /// Every scene the manifest lists is a valid scene that builds.
+    #[test]
+    fn manifest_scenes_build() {
+        for c in &Manifest::get().unwrap().cases {
+            for s in &c.scenes {
+                let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("verification").join(s);
+                let scene = crate::scene::Scene::from_file(&path).unwrap_or_else(|e| panic!("{s}: {e}"));
+                scene.build().unwrap_or_else(|e| panic!("{s}: {e}"));
+            }
+        }
+    }
+
     #[test]
     fn evaluation_follows_the_compare_kind() {
         let check = |compare, tolerance| Check {

@@ -2,7 +2,7 @@
 //! `index.md` (a section per case with its reference, checks and figures),
 //! `results.json` (machine-readable) and the PNG figures.
 
-use super::manifest::{CompareKind, Manifest};
+use super::manifest::Manifest;
 use super::{CaseResult, Figure, Plot, Variant};
 use crate::report::plot;
 use anyhow::Context;
@@ -10,7 +10,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// A number for the table: 4 significant digits, `—` for NaN.
+/// A number for the tables: 5 significant digits, trailing zeros trimmed, `—` for NaN.
 pub fn num(x: f64) -> String {
     if x.is_nan() {
         "—".into()
@@ -19,7 +19,12 @@ pub fn num(x: f64) -> String {
     } else if x.abs() >= 1e-3 && x.abs() < 1e5 {
         plot::format_sig(x, 5)
     } else {
-        format!("{x:.4e}")
+        // 4 decimals of mantissa, trailing zeros trimmed: 1e-12, 2.5e-16, 8.4538e-4.
+        let s = format!("{x:.4e}");
+        match s.split_once('e') {
+            Some((m, e)) if m.contains('.') => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+            _ => s,
+        }
     }
 }
 
@@ -30,18 +35,14 @@ fn table_rows(results: &[CaseResult]) -> Vec<[String; 8]> {
         let wall = format!("{:.2} s", r.wall_s);
         for (k, row) in r.rows.iter().enumerate() {
             let what = if row.label.is_empty() { row.check.clone() } else { format!("{} [{}]", row.check, row.label) };
-            let tol = match row.compare {
-                CompareKind::Relative => format!("≤ {} rel", num(row.tolerance)),
-                CompareKind::Absolute => format!("≤ {} abs", num(row.tolerance)),
-                CompareKind::AtMost => format!("value ≤ {}", num(row.tolerance)),
-                CompareKind::AtLeast => format!("value ≥ {}", num(row.tolerance)),
-            };
+            let tol = row.compare.describe(row.tolerance);
+            let error = if row.compare.has_error() { num(row.error) } else { "—".into() };
             rows.push([
                 if k == 0 { r.name.clone() } else { String::new() },
                 what,
                 num(row.reference),
                 num(row.value),
-                num(row.error),
+                error,
                 tol,
                 if row.pass { "pass".into() } else { "FAIL".into() },
                 if k == 0 { wall.clone() } else { String::new() },
@@ -195,7 +196,7 @@ pub fn write_report(
                 md_escape(&what),
                 num(row.reference),
                 num(row.value),
-                num(row.error),
+                if row.compare.has_error() { num(row.error) } else { "—".into() },
                 row.compare.describe(row.tolerance),
                 if row.pass { "pass" } else { "**FAIL**" }
             )?;

@@ -378,7 +378,8 @@ pub fn run_dcb(variant: Variant) -> anyhow::Result<CaseOutput> {
         "fea_dcb_k.png",
         "K_I of the statically loaded DCB against element size: from the domain integral √(E′J) and from the interaction integral \
          (domain ≈ 8 mm), with corrected beam theory (Williams 1989, χ = 0.6688) dashed.",
-        PlotSpec::new("FEA DCB: K_I vs element size", "element size h (mm)", "K_I (MPa √mm)"),
+        PlotSpec::new("FEA DCB: K_I vs element size", "element size h (mm)", "K_I (MPa √mm)")
+            .with_legend(crate::report::plot::LegendPosition::LowerLeft),
         Plot::Lines(vec![
             Series::line("√(E′J), EDI", k_j).with_markers(),
             Series::line("interaction integral", k_int).with_markers(),
