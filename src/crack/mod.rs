@@ -56,6 +56,28 @@ impl Crack {
     }
 }
 
+/// Crack particles along the polyline through `vertices`: every segment is divided
+/// evenly so that neighbouring crack particles are at most `max_spacing` apart. The
+/// scene's vertices are kept exactly. Crack particles move independently (Task 7), so
+/// their spacing is the resolution of the crack's shape and of its surfaces; half a cell
+/// is the usual choice (Nairn 2003 §2.1; the crack-opening displacement for K is read
+/// at the crack particle next to the tip, 004 §3).
+pub fn subdivide(vertices: &[Vector], max_spacing: f64) -> Vec<Vector> {
+    let mut out = Vec::with_capacity(vertices.len());
+    if let Some(first) = vertices.first() {
+        out.push(*first);
+    }
+    for s in vertices.windows(2) {
+        let d = s[1] - s[0];
+        let n = (d.norm() / max_spacing).ceil().max(1.0) as usize;
+        for k in 1..n {
+            out.push(s[0] + d * (k as f64 / n as f64));
+        }
+        out.push(s[1]);
+    }
+    out
+}
+
 /// Velocity field index for a crossing result (eq. 2): 0 none, 1 above, 2 below.
 #[inline]
 fn field_of(side: Side) -> u8 {

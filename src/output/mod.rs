@@ -6,6 +6,7 @@
 pub mod vtk;
 
 use crate::dim::Vector;
+use crate::fracture::jintegral::{FractureError, TipResult};
 use crate::scene::Scene;
 use crate::simulation::{Energies, Simulation};
 use anyhow::Context;
@@ -86,6 +87,8 @@ pub struct RunOptions {
 #[derive(Clone, Debug)]
 pub struct RunResult {
     pub history: Vec<HistoryRow>,
+    /// J and K at every requested crack tip at each history time (cracks.csv).
+    pub tips: Vec<TipResult>,
     pub summary: Summary,
     pub sim: Simulation,
 }
@@ -120,7 +123,11 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         indicatif::ProgressBar::hidden()
     };
 
+    let requests = scene.fracture_requests();
+    let wants_j = requests.iter().any(Option::is_some);
     let mut history = vec![HistoryRow::of(&sim)];
+    let mut tips: Vec<TipResult> = Vec::new();
+    let mut fracture_error: Option<FractureError> = None;
     let mut next_hist = hist_dt;
     let mut archive_index = 0usize;
     let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
@@ -135,6 +142,12 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         bar.inc(1);
         if s.time + half >= next_hist {
             history.push(HistoryRow::of(s));
+            if wants_j && fracture_error.is_none() {
+                match s.fracture_parameters(&requests) {
+                    Ok(t) => tips.extend(t),
+                    Err(e) => fracture_error = Some(e),
+                }
+            }
             while next_hist <= s.time + half {
                 next_hist += hist_dt;
             }
@@ -157,8 +170,14 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
     if let Some(e) = io_error {
         return Err(e);
     }
+    if let Some(e) = fracture_error {
+        return Err(anyhow::anyhow!(e));
+    }
     if history.last().map(|h| h.time) != Some(sim.time) {
         history.push(HistoryRow::of(&sim));
+        if wants_j && sim.step_count > 0 {
+            tips.extend(sim.fracture_parameters(&requests)?);
+        }
     }
     let summary = Summary {
         scene: scene.clone(),
@@ -174,10 +193,23 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
     };
     if let Some(dir) = &opts.out_dir {
         write_history(&dir.join("history.csv"), &history)?;
+        if wants_j {
+            write_tips(&dir.join("cracks.csv"), &tips)?;
+        }
         let json = serde_json::to_string_pretty(&summary)?;
         std::fs::write(dir.join("summary.json"), json).with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
     }
-    Ok(RunResult { history, summary, sim })
+    Ok(RunResult { history, tips, summary, sim })
+}
+
+/// Write cracks.csv: one row per requested crack tip per history time.
+pub fn write_tips(path: &Path, rows: &[TipResult]) -> anyhow::Result<()> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?);
+    writeln!(f, "{}", TipResult::HEADER)?;
+    for r in rows {
+        writeln!(f, "{}", r.csv())?;
+    }
+    Ok(())
 }
 
 /// Write history.csv.
