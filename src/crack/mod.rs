@@ -54,6 +54,31 @@ impl Crack {
     pub fn opening(&self, k: usize) -> Vector {
         self.above[k] - self.below[k]
     }
+
+    /// Unit tangent of the crack at crack particle k, along the crack's direction (from
+    /// its first point to its last): the chord from point k−1 to point k+1 (one-sided at
+    /// the tips). `None` for a degenerate chord.
+    pub fn tangent(&self, k: usize) -> Option<Vector> {
+        let n = self.points.len();
+        let (a, b) = (self.points[k.saturating_sub(1)], self.points[(k + 1).min(n - 1)]);
+        let d = b - a;
+        let l = d.norm();
+        (l > 0.0).then(|| d / l)
+    }
+
+    /// Crack-opening displacement at crack particle k in local components
+    /// `(normal, tangential)`: the normal component is (above − below)·n̂ with n̂ the unit
+    /// normal pointing to the "above" side (left of the crack's direction), so it is
+    /// positive when the faces are apart and negative when they interpenetrate; the
+    /// tangential component is the slip of the above face relative to the below face
+    /// along [`Crack::tangent`]. (Nairn 2003 §2.2 normal convention; surfaces as in
+    /// 004 §2.1.) `(0, 0)` at a degenerate chord.
+    pub fn opening_nt(&self, k: usize) -> (f64, f64) {
+        let Some(t) = self.tangent(k) else { return (0.0, 0.0) };
+        let n_above = Vector::new(-t.y, t.x);
+        let d = self.opening(k);
+        (d.dot(&n_above), d.dot(&t))
+    }
 }
 
 /// Velocity field index for a crossing result (eq. 2): 0 none, 1 above, 2 below.
