@@ -166,7 +166,7 @@ pub struct Simulation {
     /// Total energy scale at t = 0 for the instability check.
     pub(crate) energy_scale: f64,
     /// Side (+1 above, −1 below, 0 unknown) of each particle relative to each crack,
-    /// index p·ncracks + c (checked mode, cracks only).
+    /// index id·ncracks + c with the particle's id (checked mode, cracks only).
     pub(crate) crack_side: Vec<i8>,
 }
 

@@ -201,7 +201,9 @@ impl Simulation {
 
     /// Checked mode: no particle near a crack changes side. A particle's side is known
     /// when its projection on the crack falls inside a segment within two cells of it;
-    /// passing round a tip goes through "unknown" and resets the record.
+    /// passing round a tip goes through "unknown" and resets the record. The record is
+    /// kept by particle id, not by storage index, so reordering the particles between
+    /// steps (`Particles::permute`) cannot make it compare two different particles.
     pub(crate) fn check_crack_sides(&mut self) -> Result<(), CheckError> {
         let nc = self.cracks.len();
         let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
@@ -215,7 +217,7 @@ impl Simulation {
             ext.max += Vector::new(reach, reach);
             for i in 0..p.len() {
                 let x = p.x[i];
-                let slot = i * nc + c;
+                let slot = p.id[i] as usize * nc + c;
                 let side = if x.x < ext.min.x || x.x > ext.max.x || x.y < ext.min.y || x.y > ext.max.y {
                     0
                 } else {
