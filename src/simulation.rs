@@ -2,7 +2,7 @@
 //! cracks — and the time loop around [`crate::step`].
 
 use crate::check::CheckError;
-use crate::crack::Crack;
+use crate::crack::{Crack, CrackMethod};
 use crate::dim::Vector;
 use crate::exact::{self, ExactSum};
 use crate::grid::{Grid, Nodes};
@@ -36,6 +36,8 @@ pub struct Options {
     pub damping: f64,
     /// Run the invariant checks every step.
     pub checked: bool,
+    /// How cracks act on the particle–node pairs (CRAMP velocity fields by default).
+    pub crack_method: CrackMethod,
 }
 
 /// A load on a set of particles: the same force on each, ramped linearly from zero over

@@ -5,6 +5,7 @@
 //! whose separation gives the crack-opening displacements.
 
 pub mod geometry;
+mod visibility;
 
 use crate::check::CheckError;
 use crate::dim::Vector;
@@ -23,6 +24,23 @@ pub enum ContactLaw {
     Stick,
     /// Frictional sliding with coefficient μ (eqs. 14–19); μ = 0 is frictionless.
     Friction(f64),
+}
+
+/// How particle–node pairs near a crack are treated in Task 1.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CrackMethod {
+    /// CRAMP (Nairn 2003 §2.1): a pair whose line crosses a crack uses the node's
+    /// velocity field of the particle's side (fields 1 and 2), so a crack node carries two
+    /// independent fields; crack contact acts between them. Passes the crack-patch test.
+    #[default]
+    VelocityFields,
+    /// Node visibility (Belytschko, Lu & Gu 1994), the alternative Nairn 2003 §3.1 compares
+    /// CRAMP with: a node whose line to the particle crosses a crack does not influence
+    /// that particle; the shape functions are renormalized over the visible nodes. One
+    /// velocity field per node, hence no crack contact and no crack-surface tracking.
+    /// Does not pass the crack-patch test (the paper, §3.1).
+    Visibility,
 }
 
 /// One crack: its crack particles in order along the polyline, its contact law, and the
@@ -92,6 +110,16 @@ fn field_of(side: Side) -> u8 {
 }
 
 impl Simulation {
+    /// Task 1 with cracks, by the scene's [`CrackMethod`]: CRAMP's velocity fields
+    /// ([`Simulation::assign_velocity_fields`]) or node visibility
+    /// ([`Simulation::assign_visible_nodes`]).
+    pub(crate) fn task1_cracks(&mut self) -> Result<(), CheckError> {
+        match self.options.crack_method {
+            CrackMethod::VelocityFields => self.assign_velocity_fields(),
+            CrackMethod::Visibility => self.assign_visible_nodes(),
+        }
+    }
+
     /// Task 1 with cracks: ν(p,i) for every pair by the line-crossing algorithm, and the
     /// crack that split each node. A node split by two different cracks, or needing
     /// fields 0, 1 and 2 at once, stops the run: CRAMP allows two fields per node.
