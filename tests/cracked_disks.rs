@@ -3,7 +3,7 @@
 //! horizontal in the LEFT disk, vertical in the RIGHT disk (the paper's §3.2) — E = 0.1 MPa,
 //! ν = 0.33, ρ = 1.5 g/cm³, each moving at 1 mm/ms toward the other, frictionless crack
 //! faces with the paper's V_sep = 0.9, V_contact = 1.1. Units mm, g, ms (MPa, N).
-//! 1 mm cells, 2×2 particles per cell (5,656 particles, 779 steps), uGIMP, USAVG.
+//! 1 mm cells, 2×2 particles per cell (5,656 particles, 778 steps), uGIMP, USAVG.
 //!
 //! References, assertions and why the tolerances are fair:
 //!
@@ -31,7 +31,7 @@
 //! * **Negative control**: the same state at 13 ms (just before contact) continued with
 //!   the vertical crack's contact switched off: checked mode must stop it with a crack
 //!   crossing on that crack, and (continued unchecked to 20 ms) its faces must overlap
-//!   by more than 0.5 mm (measured 2.5 mm, 50× δ_res): so it is contact that holds them.
+//!   by more than 0.5 mm (measured 2.35 mm, 47× δ_res): so it is contact that holds them.
 //! * **Order of magnitude of the opening**: a quasi-static estimate from the measured
 //!   peak contact force F (−dP_left/dt, smoothed over ±0.5 ms): the Brazilian-disk stress
 //!   at the centre, normal to the loaded diameter, σ = 2F/(πDt), and the Griffith centre
@@ -39,17 +39,20 @@
 //!   lie in [0.5, 2]: the estimate ignores dynamics (the load rises over ~5 ms, about one
 //!   and a half wave transits of the disk; the dynamic amplification of an elastic system
 //!   loaded from rest is between 1 and 2), the finite disk (a/R = 1/3 adds ~10 %) and the
-//!   10 % strains; measured ratio 1.34.
+//!   10 % strains; measured ratio 1.36 (peak force 0.340 N, estimate 1.44 mm, peak 1.97 mm).
 //!
 //! Findings printed for the report (not asserted: they depend on the grid and on V_sep):
 //! the horizontal crack, when it recloses during the vibration after the impact, overlaps
 //! by up to ≈ 0.12 mm (particle faces) because the material next to it is compressed to
 //! J ≈ 0.78 < V_sep (δ_res ≈ 0.16 h there); with V_sep = 0.8 no overlap occurs but the
 //! faces then stop ≈ 0.2 mm apart (contact detected too early) — the trade-off the paper
-//! describes in §3.2. The surface points at the crack tips are moved with the fields of
-//! the nodes around the tip and drift (up to ~0.7 mm along the crack and a spurious
-//! overlap at the tip point late in the run); they are excluded from nothing here, but
-//! the vertical crack's tips stay within δ_res.
+//! describes in §3.2. The surface points at and next to the crack tips move with the
+//! fields of the nodes around the tip, which mix both faces, and drift (up to ~0.7 mm along
+//! the crack); late in the run the horizontal crack's tip point shows a spurious overlap of
+//! 0.64 mm where the particle faces overlap by at most 0.12 mm — a surface-tracking
+//! artifact, not interpenetration. The vertical crack's points, tips included, all stay
+//! within δ_res and are all checked. Kinetic + strain energy stays within 0.48 % of E(0)
+//! (printed only: contact's equalisation of normal velocities is inelastic).
 //!
 //! Cost: ≈ 20–35 s release on the shared 2-core machine (the negative control ≈ 4 s).
 
@@ -125,6 +128,8 @@ fn horizontal_crack_opens_on_impact_and_contact_keeps_the_vertical_crack_closed(
 
     let started = std::time::Instant::now();
     let mut max_dp: f64 = 0.0;
+    let e0 = sim.energies().total();
+    let mut max_de: f64 = 0.0; // reported, not asserted: contact's velocity equalisation is inelastic
     let mut hist: Vec<(f64, f64)> = Vec::new(); // (t, P_left)
     let mut j_min = [f64::INFINITY; 2];
     let mut v_min_run = (f64::INFINITY, 0.0, 0usize); // vertical crack: smallest opening
@@ -140,6 +145,7 @@ fn horizontal_crack_opens_on_impact_and_contact_keeps_the_vertical_crack_closed(
         let p = &s.particles;
         let scale = cramp::exact::sum_iter((0..p.len()).map(|i| p.mass[i] * p.v[i].abs().sum()));
         max_dp = max_dp.max((s.total_momentum() - p0).norm() / scale);
+        max_de = max_de.max((s.energies().total() - e0).abs() / e0);
         hist.push((s.time, left_momentum(s)));
         for (c, j) in j_min.iter_mut().enumerate() {
             *j = j.min(j_min_near(s, c));
@@ -178,6 +184,7 @@ fn horizontal_crack_opens_on_impact_and_contact_keeps_the_vertical_crack_closed(
     // Momentum.
     println!("max |P(t) − P(0)| / Σ m|v|₁ over {} steps: {max_dp:.3e} (tolerance 1e-12)", sim.step_count);
     assert!(max_dp <= 1e-12, "momentum error {max_dp:e}");
+    println!("max |E(t) − E(0)| / E(0) = {max_de:.3e} (kinetic + strain; not asserted)");
 
     // Fig. 3b: horizontal crack open, vertical crack closed.
     let f20 = frames.iter().find(|f| f.0 == 20.0).expect("a step at 20 ms");
