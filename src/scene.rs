@@ -7,7 +7,7 @@
 //! path; [`Scene::build`] turns a valid scene into a [`Simulation`]. See
 //! `docs/scene.md` for every field.
 
-use crate::crack::{ContactLaw, Crack};
+use crate::crack::{ContactLaw, Crack, CrackMethod};
 use crate::fracture::jintegral::{JRequest, TipEnd};
 use crate::dim::Vector;
 use crate::grid::Grid;
@@ -88,6 +88,10 @@ pub struct SolverSpec {
     /// Invariant checks every step (default true).
     #[serde(default = "default_true")]
     pub checked: bool,
+    /// How cracks act: "velocity_fields" (CRAMP, default) or "visibility" (node
+    /// visibility, the alternative Nairn 2003 §3.1 compares with).
+    #[serde(default)]
+    pub crack_method: CrackMethod,
 }
 
 fn default_scheme() -> Scheme {
@@ -459,6 +463,13 @@ impl Scene {
                     return Err(invalid(format!("cracks[{i}].contact.friction.mu"), format!("must be zero or positive, got {mu}")));
                 }
             }
+            if s.crack_method == CrackMethod::Visibility && c.contact != ContactSpec::None {
+                return Err(invalid(
+                    format!("cracks[{i}].contact"),
+                    "solver.crack_method = \"visibility\" has one velocity field per node and no crack contact; \
+                     set contact = \"none\" (or use crack_method = \"velocity_fields\")",
+                ));
+            }
         }
         Ok(())
     }
@@ -602,6 +613,7 @@ impl Scene {
             dt: self.time_step(),
             damping: self.solver.damping,
             checked: self.solver.checked,
+            crack_method: self.solver.crack_method,
         };
         let body_force = self.bodies.iter().map(|b| v(b.body_force)).collect();
         let thickness = self.bodies.iter().map(|b| b.thickness).collect();

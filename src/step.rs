@@ -119,7 +119,7 @@ impl Simulation {
     /// then nodal masses and momenta per field (eq. 26) and, with cracks, nodal volumes (eq. 27).
     fn task1_extrapolate(&mut self) -> Result<(), CheckError> {
         if self.has_cracks() {
-            self.assign_velocity_fields()?;
+            self.task1_cracks()?;
         }
         self.build_node_incidence();
 

@@ -5,6 +5,7 @@
 //! whose separation gives the crack-opening displacements.
 
 pub mod geometry;
+mod visibility;
 
 use crate::check::CheckError;
 use crate::dim::Vector;
@@ -23,6 +24,23 @@ pub enum ContactLaw {
     Stick,
     /// Frictional sliding with coefficient μ (eqs. 14–19); μ = 0 is frictionless.
     Friction(f64),
+}
+
+/// How particle–node pairs near a crack are treated in Task 1.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CrackMethod {
+    /// CRAMP (Nairn 2003 §2.1): a pair whose line crosses a crack uses the node's
+    /// velocity field of the particle's side (fields 1 and 2), so a crack node carries two
+    /// independent fields; crack contact acts between them. Passes the crack-patch test.
+    #[default]
+    VelocityFields,
+    /// Node visibility (Belytschko, Lu & Gu 1994), the alternative Nairn 2003 §3.1 compares
+    /// CRAMP with: a node whose line to the particle crosses a crack does not influence
+    /// that particle; the shape functions are renormalized over the visible nodes. One
+    /// velocity field per node, hence no crack contact and no crack-surface tracking.
+    /// Does not pass the crack-patch test (the paper, §3.1).
+    Visibility,
 }
 
 /// One crack: its crack particles in order along the polyline, its contact law, and the
@@ -53,6 +71,31 @@ impl Crack {
     /// Crack-opening displacement at crack particle k: above − below.
     pub fn opening(&self, k: usize) -> Vector {
         self.above[k] - self.below[k]
+    }
+
+    /// Unit tangent of the crack at crack particle k, along the crack's direction (from
+    /// its first point to its last): the chord from point k−1 to point k+1 (one-sided at
+    /// the tips). `None` for a degenerate chord.
+    pub fn tangent(&self, k: usize) -> Option<Vector> {
+        let n = self.points.len();
+        let (a, b) = (self.points[k.saturating_sub(1)], self.points[(k + 1).min(n - 1)]);
+        let d = b - a;
+        let l = d.norm();
+        (l > 0.0).then(|| d / l)
+    }
+
+    /// Crack-opening displacement at crack particle k in local components
+    /// `(normal, tangential)`: the normal component is (above − below)·n̂ with n̂ the unit
+    /// normal pointing to the "above" side (left of the crack's direction), so it is
+    /// positive when the faces are apart and negative when they interpenetrate; the
+    /// tangential component is the slip of the above face relative to the below face
+    /// along [`Crack::tangent`]. (Nairn 2003 §2.2 normal convention; surfaces as in
+    /// 004 §2.1.) `(0, 0)` at a degenerate chord.
+    pub fn opening_nt(&self, k: usize) -> (f64, f64) {
+        let Some(t) = self.tangent(k) else { return (0.0, 0.0) };
+        let n_above = Vector::new(-t.y, t.x);
+        let d = self.opening(k);
+        (d.dot(&n_above), d.dot(&t))
     }
 }
 
@@ -89,6 +132,16 @@ fn field_of(side: Side) -> u8 {
 }
 
 impl Simulation {
+    /// Task 1 with cracks, by the scene's [`CrackMethod`]: CRAMP's velocity fields
+    /// ([`Simulation::assign_velocity_fields`]) or node visibility
+    /// ([`Simulation::assign_visible_nodes`]).
+    pub(crate) fn task1_cracks(&mut self) -> Result<(), CheckError> {
+        match self.options.crack_method {
+            CrackMethod::VelocityFields => self.assign_velocity_fields(),
+            CrackMethod::Visibility => self.assign_visible_nodes(),
+        }
+    }
+
     /// Task 1 with cracks: ν(p,i) for every pair by the line-crossing algorithm, and the
     /// crack that split each node. A node split by two different cracks, or needing
     /// fields 0, 1 and 2 at once, stops the run: CRAMP allows two fields per node.
@@ -198,7 +251,9 @@ impl Simulation {
 
     /// Checked mode: no particle near a crack changes side. A particle's side is known
     /// when its projection on the crack falls inside a segment within two cells of it;
-    /// passing round a tip goes through "unknown" and resets the record.
+    /// passing round a tip goes through "unknown" and resets the record. The record is
+    /// kept by particle id, not by storage index, so reordering the particles between
+    /// steps (`Particles::permute`) cannot make it compare two different particles.
     pub(crate) fn check_crack_sides(&mut self) -> Result<(), CheckError> {
         let nc = self.cracks.len();
         let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
@@ -212,7 +267,7 @@ impl Simulation {
             ext.max += Vector::new(reach, reach);
             for i in 0..p.len() {
                 let x = p.x[i];
-                let slot = i * nc + c;
+                let slot = p.id[i] as usize * nc + c;
                 let side = if x.x < ext.min.x || x.x > ext.max.x || x.y < ext.min.y || x.y > ext.max.y {
                     0
                 } else {

@@ -132,7 +132,7 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
     let mut archive_index = 0usize;
     let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
     if let (Some(dir), Some(_)) = (&opts.out_dir, arch_dt) {
-        write_snapshot(&sim, &dir.join(format!("particles_{archive_index:05}.vtk")))?;
+        write_snapshots(&sim, dir, archive_index)?;
         archive_index += 1;
     }
     let start = Instant::now();
@@ -154,7 +154,7 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         }
         if s.time + half >= next_arch {
             if let Some(dir) = &opts.out_dir {
-                if let Err(e) = write_snapshot(s, &dir.join(format!("particles_{archive_index:05}.vtk"))) {
+                if let Err(e) = write_snapshots(s, dir, archive_index) {
                     io_error.get_or_insert(e);
                 }
             }
@@ -220,6 +220,42 @@ pub fn write_history(path: &Path, rows: &[HistoryRow]) -> anyhow::Result<()> {
         writeln!(f, "{}", r.csv())?;
     }
     Ok(())
+}
+
+/// The snapshots of one archive time: `particles_NNNNN.vtk` and, when the scene has
+/// cracks, `cracks_NNNNN.vtk`.
+fn write_snapshots(sim: &Simulation, dir: &Path, index: usize) -> anyhow::Result<()> {
+    write_snapshot(sim, &dir.join(format!("particles_{index:05}.vtk")))?;
+    if sim.has_cracks() {
+        write_crack_snapshot(sim, &dir.join(format!("cracks_{index:05}.vtk")))?;
+    }
+    Ok(())
+}
+
+/// Crack snapshot in legacy VTK: for every crack, in scene order, three polylines — the
+/// crack particles (moved in the centre-of-mass velocity, Nairn 2003 Task 7), its
+/// "above" surface and its "below" surface (each moved in its own velocity field,
+/// Nairn 2003/Guo & Nairn: the crack-opening displacement is above − below at each
+/// crack particle). Cell scalars: `crack` (index in the scene) and `surface` (0 crack
+/// particles, 1 above, 2 below). ParaView: colour by `surface`, filter by `crack`.
+pub fn write_crack_snapshot(sim: &Simulation, path: &Path) -> anyhow::Result<()> {
+    let mut lines = Vec::with_capacity(3 * sim.cracks.len());
+    let mut crack = Vec::with_capacity(3 * sim.cracks.len());
+    let mut surface = Vec::with_capacity(3 * sim.cracks.len());
+    for (c, cr) in sim.cracks.iter().enumerate() {
+        for (k, pts) in [&cr.points, &cr.above, &cr.below].into_iter().enumerate() {
+            lines.push(pts.clone());
+            crack.push(c as f64);
+            surface.push(k as f64);
+        }
+    }
+    vtk::write_polylines(
+        path,
+        &format!("cramp cracks t={:e}", sim.time),
+        &lines,
+        &[("crack", &crack), ("surface", &surface)],
+    )
+    .with_context(|| format!("cannot write crack snapshot {}", path.display()))
 }
 
 /// Particle snapshot in legacy VTK, particles sorted by id so the file does not depend
