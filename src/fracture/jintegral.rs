@@ -381,7 +381,7 @@ mod tests {
     #[test]
     fn stationary_partition_reduces_to_eq_21() {
         // Plane stress: K = (δ/|δ|)√(EG) for each mode.
-        let m = LinearElastic { e: 2300.0, nu: 0.33, rho: 1.5e-3, state: PlaneState::Stress };
+        let m = LinearElastic { e: 2300.0, nu: 0.33, rho: 1.5e-3, state: PlaneState::PlaneStress };
         let sf = speed_factors_for(&m, 0.0).unwrap();
         let (g, di, dii) = (0.01, 3.0e-3, 4.0e-3);
         let (k1, k2) = partition_k(g, di, dii, m.shear_modulus(), sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
@@ -393,7 +393,7 @@ mod tests {
     #[test]
     fn moving_partition_returns_g() {
         // G = (A_I K_I² + A_II K_II²)/(2μ) for any speed below c_R (references §7).
-        let m = LinearElastic { e: 2940.0, nu: 0.3, rho: 1.19e-3, state: PlaneState::Strain };
+        let m = LinearElastic { e: 2940.0, nu: 0.3, rho: 1.19e-3, state: PlaneState::PlaneStrain };
         let sf = speed_factors_for(&m, 0.4 * m.shear_wave_speed()).unwrap();
         let (g, di, dii) = (0.02, 1.0e-3, -2.5e-4);
         let (k1, k2) = partition_k(g, di, dii, m.shear_modulus(), sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
