@@ -423,6 +423,9 @@ fn shuffled_particles_with_cracks_and_contact_give_identical_bits() {
         a.particles.len(),
         differing_particles(&a, &off)
     );
-    // Pressed down with no contact, the block sinks into the base; with contact it slides.
-    assert!(n_off < -0.1 && n_on > -0.01 && t_on > 0.0, "friction contact was not active");
+    // Pressed down with no contact, the block sinks into the base (−0.9 mm); with contact
+    // it slides, the faces overlapping by no more than the volume-based detection resolves
+    // (5 % of a cell, as in tests/cracked_disks.rs; −0.024 mm measured since the crack
+    // surfaces move in the fields of 001 eq. 12, −0.003 mm before).
+    assert!(n_off < -0.1 && n_on > -0.05 && t_on > 0.0, "friction contact was not active");
 }

@@ -197,56 +197,109 @@ impl Simulation {
     }
 
     /// Task 7: move every crack particle in the centre-of-mass velocity of its nodes
-    /// (eq. 32), and each crack surface in the velocity field of its own side. Linear
-    /// shape functions at the crack particles (they are massless points).
+    /// (eq. 32), and each crack surface point in the velocity field of its own side
+    /// (001 eqs. 11–12): the field ν(s,i) of surface point s at node i is the one holding
+    /// the material on that side of the crack there ([`Simulation::surface_field`]), and
+    /// nodes without it are inactive for that surface, with the linear shape functions
+    /// renormalised over the active ones (001's N*). Crack particles are massless points,
+    /// hence linear (not GIMP) shape functions; nodes without mass are inactive too.
     pub(crate) fn task7_move_cracks(&mut self) {
         let dt = self.options.dt;
-        let nodes = &self.nodes;
-        let grid = &self.grid;
         let zero = Vector::zeros();
-        // Velocity of node i seen from side `pref` (1 above, 2 below, 0 centre of mass).
-        let vel = |i: usize, pref: usize| -> Option<Vector> {
-            let present = nodes.present[i];
-            if present == 0 {
-                return None;
-            }
-            if pref == 0 {
-                let mut m = ExactSum::new();
-                let mut px = ExactSum::new();
-                let mut py = ExactSum::new();
-                for (f, fa) in nodes.fields.iter().enumerate() {
-                    if present & (1 << f) != 0 {
-                        m.add(fa.mass[i]);
-                        px.add(fa.mom[i].x);
-                        py.add(fa.mom[i].y);
+        let this: &Simulation = self;
+        let mut moved_cracks = Vec::with_capacity(this.cracks.len());
+        for (c, crack) in this.cracks.iter().enumerate() {
+            let reach = 2.0 * this.grid.h.x.max(this.grid.h.y);
+            // Velocity at x from the nodes' fields chosen by `field(i)`, renormalised.
+            let velocity = |x: &Vector, field: &dyn Fn(usize) -> Option<Vector>| -> Vector {
+                let w = shape::weights(&this.grid, ShapeKind::Linear, x, &zero);
+                let (mut sx, mut sy, mut sw) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
+                for k in 0..w.n {
+                    if let Some(v) = field(w.node[k] as usize) {
+                        sx.add(w.s[k] * v.x);
+                        sy.add(w.s[k] * v.y);
+                        sw.add(w.s[k]);
                     }
                 }
-                return Some(Vector::new(px.value(), py.value()) / m.value());
-            }
-            let other = 3 - pref;
-            let f = [pref, 0, other].into_iter().find(|&f| present & (1 << f) != 0)?;
-            Some(nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
-        };
-        let moved = |x: &Vector, pref: usize| -> Vector {
-            let w = shape::weights(grid, ShapeKind::Linear, x, &zero);
-            let mut sx = ExactSum::new();
-            let mut sy = ExactSum::new();
-            for k in 0..w.n {
-                if let Some(v) = vel(w.node[k] as usize, pref) {
-                    sx.add(w.s[k] * v.x);
-                    sy.add(w.s[k] * v.y);
+                let ws = sw.value();
+                if ws > 0.0 {
+                    Vector::new(sx.value(), sy.value()) / ws
+                } else {
+                    zero
                 }
-            }
-            x + Vector::new(sx.value(), sy.value()) * dt
-        };
-        for crack in &mut self.cracks {
+            };
+            let cm = |i: usize| this.centre_of_mass_velocity(i);
+            let side = |i: usize, above: bool| {
+                this.surface_field(c, &crack.points, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i])
+            };
+            let on_above = |i: usize| side(i, true);
+            let on_below = |i: usize| side(i, false);
+            let mut next = crack.clone();
             for k in 0..crack.points.len() {
-                crack.points[k] = moved(&crack.points[k], 0);
-                crack.above[k] = moved(&crack.above[k], 1);
-                crack.below[k] = moved(&crack.below[k], 2);
+                next.points[k] = crack.points[k] + velocity(&crack.points[k], &cm) * dt;
+                next.above[k] = crack.above[k] + velocity(&crack.above[k], &on_above) * dt;
+                next.below[k] = crack.below[k] + velocity(&crack.below[k], &on_below) * dt;
             }
-            crack.extent = Extent::of(&crack.points);
+            next.extent = Extent::of(&next.points);
+            moved_cracks.push(next);
         }
+        self.cracks = moved_cracks;
+    }
+
+    /// Centre-of-mass velocity of node i over its fields (eq. 32), None without mass.
+    fn centre_of_mass_velocity(&self, i: usize) -> Option<Vector> {
+        let nodes = &self.nodes;
+        let present = nodes.present[i];
+        if present == 0 {
+            return None;
+        }
+        let (mut m, mut px, mut py) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
+        for (f, fa) in nodes.fields.iter().enumerate() {
+            if present & (1 << f) != 0 {
+                m.add(fa.mass[i]);
+                px.add(fa.mom[i].x);
+                py.add(fa.mom[i].y);
+            }
+        }
+        Some(Vector::new(px.value(), py.value()) / m.value())
+    }
+
+    /// The field of node i that holds the material on one side (`above`) of crack `c`,
+    /// or None if the node has none — ν(s,i) of 001 eq. 12 for a surface point s on that
+    /// side. Field 0 holds the material on the node's own side, field 1 (2) the material
+    /// above (below) the crack seen across it (Nairn 2003 §2.1). The node's own side
+    /// follows from its fields when the crack split it ({0,1}: below; {0,2}: above;
+    /// {1,2}: on the crack) and from the geometry otherwise; a node whose side is
+    /// unknown (ahead of a tip, or far) gives field 0.
+    fn surface_field(&self, c: usize, points: &[Vector], i: usize, above: bool, reach: f64) -> Option<usize> {
+        let nodes = &self.nodes;
+        let present = nodes.present[i];
+        let has = |f: usize| present & (1 << f) != 0;
+        let across = if above { 1 } else { 2 };
+        if present == 0 {
+            return None;
+        }
+        if present.count_ones() >= 2 && nodes.crack[i] as usize != c {
+            return None; // split by another crack: its fields say nothing about this one
+        }
+        let node_above = match (has(0), has(1), has(2)) {
+            (true, true, false) => Some(false),
+            (true, false, true) => Some(true),
+            (false, true, true) => return Some(across),
+            (false, true, false) => Some(false),
+            (false, false, true) => Some(true),
+            _ => match side_of(points, self.grid.node_pos(i), reach) {
+                1 => Some(true),
+                -1 => Some(false),
+                _ => None,
+            },
+        };
+        let f = match node_above {
+            Some(a) if a == above => 0,
+            Some(_) => across,
+            None => 0,
+        };
+        has(f).then_some(f)
     }
 
     /// Checked mode: no particle near a crack changes side. A particle's side is known
