@@ -141,7 +141,7 @@ fn structural_mismatches_are_clear_errors() {
     copy_dir(&b, &s);
     std::fs::remove_file(s.join("particles_00001.vtk")).unwrap();
     let e = format!("{:#}", compare_runs(&s, &b, Tolerance::default()).unwrap_err());
-    assert!(e.contains("different snapshot files") && e.contains("particles_00001.vtk"), "{e}");
+    assert!(e.contains("different VTK files") && e.contains("particles_00001.vtk"), "{e}");
 
     // A malformed history.csv names the file, line and column.
     let c = root.join("c");
@@ -156,6 +156,25 @@ fn structural_mismatches_are_clear_errors() {
     assert!(e.contains("nope") && e.contains("does not exist"), "{e}");
     let (code, _, stderr) = cramp(&["compare", root.join("nope").to_str().unwrap(), b.to_str().unwrap()]);
     assert_eq!(code, 2, "{stderr}");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// A cracked scene: the particle snapshots are compared, the crack polylines are listed
+/// as not compared.
+#[test]
+fn crack_polylines_are_listed_not_compared() {
+    let root = scratch("cracks");
+    let mut scene = Scene::from_toml(cramp::verify::cases::crack_patch::FULL, "crack_patch_full").unwrap();
+    scene.solver.end_time = 3.0;
+    scene.output.archive_interval = Some(1.5);
+    for d in ["a", "b"] {
+        run_scene(&scene, &RunOptions { out_dir: Some(root.join(d)), progress: false, checked: Some(true) }).unwrap();
+    }
+    let c = compare_runs(&root.join("a"), &root.join("b"), Tolerance::default()).unwrap();
+    assert!(c.agree(), "{}", c.render());
+    assert_eq!(c.snapshots.len(), 3);
+    assert_eq!(c.not_compared, ["cracks_00000.vtk", "cracks_00001.vtk", "cracks_00002.vtk"]);
+    assert!(c.render().contains("not compared: 3 file(s)"));
     let _ = std::fs::remove_dir_all(&root);
 }
 

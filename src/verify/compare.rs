@@ -3,6 +3,9 @@
 //! (`*.vtk`, files matched by name, particles by their `id` array) — and report, per
 //! field, the largest absolute and relative difference and where it is.
 //!
+//! Other CSV files (`cracks.csv`) are compared like the history when present; crack
+//! polylines (`cracks_*.vtk`) are listed but not compared yet.
+//!
 //! A value agrees when |a − b| ≤ atol + rtol·|b| (b from RUN_B, the reference run). With
 //! the defaults rtol = atol = 0 that is equality: bit-identical up to the sign of zero.
 //! NaN never agrees. The two runs must have the same structure (history columns and row
@@ -96,7 +99,11 @@ pub struct Comparison {
     pub run_b: PathBuf,
     pub tolerance: Tolerance,
     pub history_rows: usize,
+    /// The CSV files compared (history.csv and e.g. cracks.csv).
+    pub csv_files: Vec<String>,
     pub snapshots: Vec<String>,
+    /// Files present in both runs but not compared (crack polylines `cracks_*.vtk`).
+    pub not_compared: Vec<String>,
     pub particles: usize,
     pub fields: Vec<FieldDiff>,
 }
@@ -135,6 +142,15 @@ impl Comparison {
             },
             self.particles
         );
+        if self.csv_files.len() > 1 {
+            s += &format!(
+                "also compared: {}\n",
+                self.csv_files.iter().filter(|f| *f != "history.csv").cloned().collect::<Vec<_>>().join(", ")
+            );
+        }
+        if !self.not_compared.is_empty() {
+            s += &format!("not compared: {} file(s) ({} …)\n", self.not_compared.len(), self.not_compared[0]);
+        }
         s += "field\tcompared\tviolations\tmax_abs\tmax_abs_at\tmax_rel\tmax_rel_at\n";
         for f in &self.fields {
             s += &format!(
@@ -201,17 +217,36 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Csv> {
     Ok(Csv { columns, rows })
 }
 
-/// The particle snapshot files (`*.vtk`) of a run directory, sorted by name.
-fn snapshot_files(dir: &Path) -> anyhow::Result<Vec<String>> {
+/// The files of a run directory ending in `suffix`, sorted by name.
+fn files_ending(dir: &Path, suffix: &str) -> anyhow::Result<Vec<String>> {
     let mut names = Vec::new();
     for entry in std::fs::read_dir(dir).with_context(|| format!("cannot list {}", dir.display()))? {
         let name = entry?.file_name().to_string_lossy().into_owned();
-        if name.ends_with(".vtk") {
+        if name.ends_with(suffix) {
             names.push(name);
         }
     }
     names.sort();
     Ok(names)
+}
+
+/// Whether a `.vtk` file name is a particle snapshot (`particles*.vtk`).
+fn is_particle_snapshot(name: &str) -> bool {
+    name.starts_with("particles") && name.ends_with(".vtk")
+}
+
+/// The same set of names in both runs, or an error listing the differences.
+fn same_files(what: &str, a: &[String], b: &[String], ra: &str, rb: &str) -> anyhow::Result<()> {
+    if a != b {
+        let only_a: Vec<_> = a.iter().filter(|f| !b.contains(f)).cloned().collect();
+        let only_b: Vec<_> = b.iter().filter(|f| !a.contains(f)).cloned().collect();
+        bail!(
+            "the runs have different {what}: only in {ra}: [{}]; only in {rb}: [{}]",
+            only_a.join(", "),
+            only_b.join(", ")
+        );
+    }
+    Ok(())
 }
 
 /// Value of a component at point i.
@@ -277,37 +312,42 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
         }
     };
 
-    // History.
-    let (ha, hb) = (read_csv(&run_a.join("history.csv"))?, read_csv(&run_b.join("history.csv"))?);
-    if ha.columns != hb.columns {
-        bail!("history.csv columns differ: {ra} has [{}], {rb} has [{}]", ha.columns.join(","), hb.columns.join(","));
+    // history.csv (required) and any other CSV (e.g. cracks.csv), matched by name.
+    let (ca, cb) = (files_ending(run_a, ".csv")?, files_ending(run_b, ".csv")?);
+    same_files("CSV files", &ca, &cb, &ra, &rb)?;
+    if !ca.iter().any(|f| f == "history.csv") {
+        bail!("{ra} has no history.csv (is it a run directory?)");
     }
-    if ha.rows.len() != hb.rows.len() {
-        bail!("history.csv has {} rows in {ra} but {} in {rb}", ha.rows.len(), hb.rows.len());
-    }
-    let time_col = ha.columns.iter().position(|c| c == "time");
-    for (c, name) in ha.columns.iter().enumerate() {
-        let k = field(format!("history.{name}"), &mut fields);
-        for (r, (a, b)) in ha.rows.iter().zip(&hb.rows).enumerate() {
-            let at = || match time_col {
-                Some(t) => format!("history.csv row {} (t = {:e})", r + 1, hb.rows[r][t]),
-                None => format!("history.csv row {}", r + 1),
-            };
-            fields[k].add(a[c], b[c], &tol, &at);
+    let mut history_rows = 0;
+    for file in &ca {
+        let (ha, hb) = (read_csv(&run_a.join(file))?, read_csv(&run_b.join(file))?);
+        if ha.columns != hb.columns {
+            bail!("{file} columns differ: {ra} has [{}], {rb} has [{}]", ha.columns.join(","), hb.columns.join(","));
+        }
+        if ha.rows.len() != hb.rows.len() {
+            bail!("{file} has {} rows in {ra} but {} in {rb}", ha.rows.len(), hb.rows.len());
+        }
+        if file == "history.csv" {
+            history_rows = ha.rows.len();
+        }
+        let stem = file.trim_end_matches(".csv");
+        let time_col = ha.columns.iter().position(|c| c == "time");
+        for (c, name) in ha.columns.iter().enumerate() {
+            let k = field(format!("{stem}.{name}"), &mut fields);
+            for (r, (a, b)) in ha.rows.iter().zip(&hb.rows).enumerate() {
+                let at = || match time_col {
+                    Some(t) => format!("{file} row {} (t = {:e})", r + 1, hb.rows[r][t]),
+                    None => format!("{file} row {}", r + 1),
+                };
+                fields[k].add(a[c], b[c], &tol, &at);
+            }
         }
     }
 
-    // Snapshots.
-    let (fa, fb) = (snapshot_files(run_a)?, snapshot_files(run_b)?);
-    if fa != fb {
-        let only_a: Vec<_> = fa.iter().filter(|f| !fb.contains(f)).cloned().collect();
-        let only_b: Vec<_> = fb.iter().filter(|f| !fa.contains(f)).cloned().collect();
-        bail!(
-            "the runs have different snapshot files: only in {ra}: [{}]; only in {rb}: [{}]",
-            only_a.join(", "),
-            only_b.join(", ")
-        );
-    }
+    // Particle snapshots; other VTK files (crack polylines) are listed as not compared.
+    let (va, vb) = (files_ending(run_a, ".vtk")?, files_ending(run_b, ".vtk")?);
+    same_files("VTK files", &va, &vb, &ra, &rb)?;
+    let (fa, not_compared): (Vec<String>, Vec<String>) = va.into_iter().partition(|f| is_particle_snapshot(f));
     let mut particles = 0;
     for file in &fa {
         let (sa, sb) = (vtk::read_points(run_a.join(file))?, vtk::read_points(run_b.join(file))?);
@@ -371,8 +411,10 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
         run_a: run_a.to_path_buf(),
         run_b: run_b.to_path_buf(),
         tolerance: tol,
-        history_rows: ha.rows.len(),
+        history_rows,
+        csv_files: ca,
         snapshots: fa,
+        not_compared,
         particles,
         fields,
     })

@@ -64,7 +64,7 @@ pub fn scenes(h: f64, crack: bool) -> anyhow::Result<(Scene, Scene)> {
 }
 
 /// Key a particle by the bits of its initial position.
-fn key(x: f64, y: f64) -> (u64, u64) {
+pub fn key(x: f64, y: f64) -> (u64, u64) {
     (x.to_bits(), y.to_bits())
 }
 
