@@ -1,2 +1,3 @@
 //! Reports: plots and the index.
+pub mod particles;
 pub mod plot;

@@ -81,6 +81,9 @@ pub enum Plot {
     Convergence { points: Vec<(f64, f64)>, label: String },
     /// Run time versus error with the Pareto front marked.
     Pareto(Vec<(f64, f64, String)>),
+    /// A particle snapshot: (x, y, value) coloured by value, with polylines (cracks)
+    /// over it ([`crate::report::particles::particle_plot`]; the spec's title and width are used).
+    Particles { particles: Vec<(f64, f64, f64)>, lines: Vec<Vec<(f64, f64)>>, value_label: String },
 }
 
 /// A figure: a PNG file name (within the report directory), a caption and its data.

@@ -109,6 +109,9 @@ pub fn draw(dir: &Path, f: &Figure) -> anyhow::Result<()> {
         Plot::Lines(series) => plot::line_plot(&path, &f.spec, series),
         Plot::Convergence { points, label } => plot::loglog_convergence(&path, &f.spec, points, label),
         Plot::Pareto(points) => plot::pareto_plot(&path, &f.spec, points),
+        Plot::Particles { particles, lines, value_label } => {
+            crate::report::particles::particle_plot(&path, &f.spec.title, value_label, particles, lines, f.spec.size.0)
+        }
     }
     .with_context(|| format!("drawing {}", path.display()))
 }
