@@ -22,9 +22,14 @@
 //!   x₂′ its counter-clockwise normal. J₁ = J·e₁′ is the energy release rate G for growth
 //!   straight ahead (eq. 10); J₂ = J·e₂′.
 //! * **K_I, K_II** (eqs. 14–15 with the speed factors of [`crate::fracture::speed`]): G
-//!   split by the crack-opening displacements δ_I (normal) and δ_II (sliding) at the
-//!   crack particle next to the tip; δ is the upper (+x₂′) face's displacement minus the
-//!   lower face's, from the per-field nodal displacements (see `face_displacement`).
+//!   split by the crack-opening displacements δ_I (normal) and δ_II (sliding) of the
+//!   tracked crack surfaces (001 eqs. 11–12) at the crack particle next to the tip; δ is
+//!   the upper (+x₂′) face's position minus the lower face's. Known limitation: the
+//!   surfaces integrate the face velocities step by step and pick up the noise of
+//!   small-mass fields, so δ_II/δ_I swings by ±40 % in a damped mixed-mode beam (issue 4
+//!   note). Per-field nodal displacements (eq. 11) at the same point are smooth but
+//!   average the sliding over a cell into the arms and came out 5× too small in δ_II/δ_I;
+//!   neither is good enough for mixed mode yet.
 //!
 //! Which crack surface is "upper": a crack's `above` surface is to the left of the
 //! polyline's direction of travel (first point to last). At the last point (the "end"
@@ -199,7 +204,7 @@ impl Simulation {
         let j = j_line + j_area;
 
         // Crack-opening displacements at the crack particle next to the tip.
-        let opening = self.face_displacement(c, crack.points[next_to_tip], true) - self.face_displacement(c, crack.points[next_to_tip], false);
+        let opening = crack.opening(next_to_tip);
         let delta = if upper_is_above { opening } else { -opening };
         let delta_i = delta.dot(&e2);
         let delta_ii = delta.dot(&d);
@@ -333,36 +338,6 @@ impl Simulation {
             sy.add(f.y);
         }
         Vector::new(sx.value(), sy.value())
-    }
-
-    /// Displacement of the material on one face (`above`) of crack `c` at `x`: the
-    /// per-field nodal displacements of eq. 11, each node contributing the field that
-    /// holds that face's material there (as the crack surfaces of 001 eq. 12 do), with
-    /// linear shape functions renormalised over the nodes that have it. This is the
-    /// "displacement-based" opening 004 §2.1 mentions; unlike the tracked surface
-    /// positions, which integrate the face velocities step by step and pick up the
-    /// noise of small-mass fields (±40 % swings of δ_II in a damped mixed-mode beam),
-    /// it is a smooth function of the current particle positions.
-    fn face_displacement(&self, c: usize, x: Vector, above: bool) -> Vector {
-        let w = crate::shape::weights(&self.grid, crate::shape::ShapeKind::Linear, &x, &Vector::zeros());
-        let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
-        let (mut ux, mut uy, mut sw) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
-        for k in 0..w.n {
-            let node = w.node[k] as usize;
-            if let Some(f) = self.surface_field(c, &self.cracks[c].points, node, above, reach) {
-                if let Some(state) = self.nodal_state(node)[f] {
-                    ux.add(w.s[k] * state.displacement.x);
-                    uy.add(w.s[k] * state.displacement.y);
-                    sw.add(w.s[k]);
-                }
-            }
-        }
-        let s = sw.value();
-        if s > 0.0 {
-            Vector::new(ux.value(), uy.value()) / s
-        } else {
-            Vector::zeros()
-        }
     }
 
     /// The material of the particle nearest to `x` (ties: lowest id).
