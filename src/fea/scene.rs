@@ -17,20 +17,27 @@
 //!   grid nodes (all crack-face copies, as the MPM fixes every velocity field of a node).
 //!   Grid nodes outside the material have no FEA counterpart and are skipped. A non-zero
 //!   fixed velocity is a displacement growing in time, which a static analysis cannot
-//!   represent: it is an error. A connected piece of the mesh without any support (a free
-//!   body, like the DCB of Nairn 2003 §3.1) gets the minimal support that removes its
-//!   three rigid-body modes — one node fixed in x and y, the node farthest from it fixed
+//!   represent: it is an error. Each connected piece of the mesh (elements joined through
+//!   shared edges) must be held against the three rigid motions of the plane; if its
+//!   supports leave one free (rollers only, a single pinned node) the error names the
+//!   free translation or the centre of the free rotation. A piece without any support
+//!   (a free body, like the DCB of Nairn 2003 §3.1) gets the minimal support that removes
+//!   its rigid-body modes — one node fixed in x and y, the node farthest from it fixed
 //!   across the line joining them — after checking that its loads are in equilibrium
 //!   (net force and moment zero to 1e-9 of the load magnitude); the supports then carry
-//!   no reaction and do not change the stresses.
+//!   no reaction and do not change the stresses, and the reported displacements have the
+//!   piece's mean translation and rotation removed.
 //! * **Loads.** The MPM spreads each loaded particle's force f_p to the nodes with its
 //!   shape functions, S_ip f_p (Nairn 2003 eq. 28). The FEA lumps the same f_p onto the
 //!   four nodes of the element that contains the particle with the Q4 shape functions,
 //!   f_a += N_a(x_p) f_p. Because Σ_a N_a = 1 and Σ_a N_a x_a = x_p, every particle
-//!   contributes the same force and the same moment as in the MPM; with linear MPM shape
-//!   functions on the grid, N_a(x_p) = S_ip and the nodal loads are identical, with uGIMP
-//!   the MPM spreads them one node wider. The full load is applied (a ramp only matters
-//!   in time). Body forces are the particle forces m_p b (eq. 28) lumped the same way;
+//!   contributes the same force and the same moment as in the MPM. At the initial
+//!   positions the nodal loads are in fact identical: linear MPM shape functions are the
+//!   Q4 ones, N_a(x_p) = S_ip, and so are the uGIMP ones, because the particle domains of
+//!   the regular fill tile the cells and the average of a bilinear function over a domain
+//!   that does not straddle a node is its centre value (once the particles move, uGIMP
+//!   spreads a particle's force up to one node wider). The full load is applied (a ramp
+//!   only matters in time). Body forces are the particle forces m_p b (eq. 28) lumped the same way;
 //!   on a cell filled with n × n particles this is exactly the consistent nodal load
 //!   ∫ N_a ρ b t dA (Cook et al. 2002, consistent loads).
 //! * **Cracks** are meshed (nodes duplicated along the crack, [`GridMesh::cut_cracks`]).
@@ -62,7 +69,8 @@ use crate::dim::Vector;
 use crate::material::LinearElastic;
 use crate::particles::NO_LOAD;
 use crate::scene::Scene;
-use std::collections::BTreeMap;
+use std::collections::hash_map::Entry;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::time::Instant;
 
 /// Relative tolerance (of the cell size) for "on a grid line" / "on a grid node".
@@ -248,6 +256,52 @@ fn meshed_polyline(grid: &Grid, c: usize, pts: &[Vector]) -> Result<Vec<Vector>>
     Ok(out)
 }
 
+/// A supported piece must be held against the three rigid motions of the plane: the
+/// rigid modes (translations x, y and the rotation about `centre`, scaled by `size`)
+/// restricted to the prescribed DOFs must have rank 3, i.e. their Gram matrix must have
+/// no (relatively) zero eigenvalue. For a connected mesh of fully integrated Q4
+/// elements the rigid modes are the whole null space of K, so this is exactly the
+/// condition for K_ff to be positive definite (Cook et al. 2002, rigid-body modes).
+fn check_rigid_modes(fixed: &[(usize, usize)], x: &[Vector], centre: Vector, size: f64, body: usize) -> Result<()> {
+    let mut gram = nalgebra::Matrix3::<f64>::zeros();
+    for &(a, c) in fixed {
+        let d = (x[a] - centre) / size;
+        let row = if c == 0 { nalgebra::Vector3::new(1.0, 0.0, -d.y) } else { nalgebra::Vector3::new(0.0, 1.0, d.x) };
+        gram += row * row.transpose();
+    }
+    let eig = gram.symmetric_eigen();
+    let (k, min) =
+        eig.eigenvalues.iter().enumerate().fold((0, f64::INFINITY), |m, (k, &v)| if v < m.1 { (k, v) } else { m });
+    if min > 1e-9 * eig.eigenvalues.iter().fold(0.0, |m: f64, &v| m.max(v)) {
+        return Ok(());
+    }
+    let v = eig.eigenvectors.column(k);
+    let (t, omega) = (Vector::new(v[0], v[1]), v[2] / size);
+    let motion = if omega.abs() * size < 1e-6 * t.norm() {
+        if t.y.abs() < 1e-6 * t.norm() {
+            "translation in x".to_string()
+        } else if t.x.abs() < 1e-6 * t.norm() {
+            "translation in y".to_string()
+        } else {
+            format!("translation along ({:.4}, {:.4})", t.x / t.norm(), t.y / t.norm())
+        }
+    } else {
+        let c = centre + Vector::new(-t.y, t.x) / omega;
+        format!("rotation about ({:.6}, {:.6})", c.x, c.y)
+    };
+    Err(scene_err(
+        "boundary",
+        format!(
+            "the piece of bodies[{body}] around ({:.6}, {:.6}) is not held against rigid motion: its supports (vx = 0 / \
+             vy = 0 on {} node component(s)) leave a rigid {motion} free, so the static problem has no unique solution; \
+             add [[boundary]] conditions that stop it",
+            centre.x,
+            centre.y,
+            fixed.len()
+        ),
+    ))
+}
+
 /// Union–find root with path halving.
 fn root(parent: &mut [usize], mut a: usize) -> usize {
     while parent[a] != a {
@@ -391,42 +445,61 @@ impl SceneFea {
             load_resultant += f;
         }
 
-        // Pieces without supports: check equilibrium, add the minimal support.
-        let n_nodes = mesh.n_nodes();
-        let mut parent: Vec<usize> = (0..n_nodes).collect();
-        for conn in &mesh.elements {
-            for k in 1..4 {
-                let (ra, rb) = (root(&mut parent, conn[0]), root(&mut parent, conn[k]));
-                if ra != rb {
-                    parent[ra.max(rb)] = ra.min(rb);
+        // Pieces (elements joined through shared edges; a corner-only contact is a hinge):
+        // supported ones must be held against every rigid motion, unsupported ones must be
+        // in equilibrium and get the minimal support.
+        let n_el = mesh.elements.len();
+        let mut parent: Vec<usize> = (0..n_el).collect();
+        let mut edge_owner: HashMap<(usize, usize), usize> = HashMap::new();
+        for (e, conn) in mesh.elements.iter().enumerate() {
+            for k in 0..4 {
+                let (a, b) = (conn[k], conn[(k + 1) % 4]);
+                match edge_owner.entry((a.min(b), a.max(b))) {
+                    Entry::Occupied(o) => {
+                        let (ra, rb) = (root(&mut parent, e), root(&mut parent, *o.get()));
+                        if ra != rb {
+                            parent[ra.max(rb)] = ra.min(rb);
+                        }
+                    }
+                    Entry::Vacant(v) => {
+                        v.insert(e);
+                    }
                 }
             }
         }
-        let mut pieces: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-        for a in 0..n_nodes {
-            let r = root(&mut parent, a);
-            pieces.entry(r).or_default().push(a);
+        let mut pieces: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+        for (e, conn) in mesh.elements.iter().enumerate() {
+            let r = root(&mut parent, e);
+            pieces.entry(r).or_default().extend(conn.iter().copied());
         }
         let mut auto_supports = Vec::new();
         let mut free_pieces = Vec::new();
         let forces = bcs.forces().to_vec();
-        for nodes in pieces.values() {
-            if nodes.iter().any(|&a| bcs.prescribed()[2 * a].is_some() || bcs.prescribed()[2 * a + 1].is_some()) {
+        for (&first_element, nodes) in &pieces {
+            let nodes: Vec<usize> = nodes.iter().copied().collect();
+            let body = element_body[first_element];
+            let centre = nodes.iter().fold(Vector::zeros(), |s, &a| s + mesh.nodes[a]) / nodes.len() as f64;
+            let size =
+                nodes.iter().map(|&a| (mesh.nodes[a] - centre).norm()).fold(0.0, f64::max).max(grid.h.x.min(grid.h.y));
+            let fixed: Vec<(usize, usize)> = nodes
+                .iter()
+                .flat_map(|&a| (0..2).map(move |c| (a, c)))
+                .filter(|&(a, c)| bcs.prescribed()[2 * a + c].is_some())
+                .collect();
+            if !fixed.is_empty() {
+                check_rigid_modes(&fixed, &mesh.nodes, centre, size, body)?;
                 continue;
             }
             let x = |a: usize| mesh.nodes[a];
             let f = |a: usize| Vector::new(forces[2 * a], forces[2 * a + 1]);
-            let centre = nodes.iter().fold(Vector::zeros(), |s, &a| s + x(a)) / nodes.len() as f64;
-            let size = nodes.iter().map(|&a| (x(a) - centre).norm()).fold(0.0, f64::max).max(grid.h.x.min(grid.h.y));
             let magnitude: f64 = nodes.iter().map(|&a| f(a).norm()).sum();
             let net = nodes.iter().fold(Vector::zeros(), |s, &a| s + f(a));
             let moment: f64 = nodes.iter().map(|&a| (x(a) - centre).perp(&f(a))).sum();
             if net.norm() > EQUILIBRIUM_TOL * magnitude || moment.abs() > EQUILIBRIUM_TOL * magnitude * size {
-                let b = element_body[grid_mesh.mesh.elements.iter().position(|c| c.contains(&nodes[0])).unwrap_or(0)];
                 return Err(scene_err(
                     "boundary",
                     format!(
-                        "the piece of bodies[{b}] around ({:.6}, {:.6}) has no support and its loads are not in equilibrium \
+                        "the piece of bodies[{body}] around ({:.6}, {:.6}) has no support and its loads are not in equilibrium \
                          (net force ({:e}, {:e}), net moment {:e} about its centre): a static solution does not exist; \
                          add [[boundary]] conditions (vx = 0 / vy = 0) on it",
                         centre.x, centre.y, net.x, net.y, moment
