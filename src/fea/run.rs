@@ -88,6 +88,8 @@ pub struct ProbeSummary {
 #[derive(Clone, Debug, Serialize)]
 pub struct FeaSummary {
     pub title: String,
+    /// The scene as read.
+    pub scene: Scene,
     pub analysis: String,
     pub elements: usize,
     pub nodes: usize,
@@ -167,6 +169,7 @@ pub fn run_fea(scene: &Scene, out_dir: Option<&Path>) -> anyhow::Result<FeaRepor
     }
     let summary = FeaSummary {
         title: scene.title.clone(),
+        scene: scene.clone(),
         analysis: "static, linear elastic, small strain; Q4 elements on the scene grid, 2×2 Gauss points; \
                    sparse Cholesky (faer)"
             .into(),
