@@ -7,7 +7,8 @@
 //! path; [`Scene::build`] turns a valid scene into a [`Simulation`]. See
 //! `docs/scene.md` for every field.
 
-use crate::crack::{ContactLaw, Crack};
+use crate::crack::{ContactLaw, Crack, CrackMethod};
+use crate::fracture::jintegral::{JRequest, TipEnd};
 use crate::dim::Vector;
 use crate::grid::Grid;
 use crate::material::{LinearElastic, PlaneState};
@@ -90,6 +91,10 @@ pub struct SolverSpec {
     /// Invariant checks every step (default true).
     #[serde(default = "default_true")]
     pub checked: bool,
+    /// How cracks act: "velocity_fields" (CRAMP, default) or "visibility" (node
+    /// visibility, the alternative Nairn 2003 §3.1 compares with).
+    #[serde(default)]
+    pub crack_method: CrackMethod,
 }
 
 fn default_scheme() -> Scheme {
@@ -226,6 +231,36 @@ pub struct CrackSpec {
     /// Relative volume above which faces are in contact (default 1.1).
     #[serde(default = "default_vcontact")]
     pub v_contact: f64,
+    /// J-integral and stress intensity factors at this crack's tips (Guo & Nairn 2004 §3),
+    /// written to cracks.csv at the history interval. Omitted: not computed.
+    #[serde(default)]
+    pub fracture: Option<FractureSpec>,
+}
+
+/// Which crack ends are tips, and how J is evaluated there.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FractureSpec {
+    /// "start" (first point), "end" (last point) or "both".
+    pub tips: TipsSpec,
+    /// Half-size n of the n×n-cell rectangular J contour (default 2).
+    #[serde(default = "default_contour")]
+    pub contour: usize,
+    /// Add the area term of eq. 8 (two-term, path-independent J; default false).
+    #[serde(default)]
+    pub area_term: bool,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum TipsSpec {
+    Start,
+    End,
+    Both,
+}
+
+fn default_contour() -> usize {
+    2
 }
 
 /// A line probe: `points` equally spaced samples from `from` to `to` (both included).
@@ -435,10 +470,22 @@ impl Scene {
             if !(c.v_sep > 0.0 && c.v_sep < c.v_contact) {
                 return Err(invalid(format!("cracks[{i}].v_sep"), format!("need 0 < v_sep < v_contact, got v_sep = {}, v_contact = {}", c.v_sep, c.v_contact)));
             }
+            if let Some(fr) = &c.fracture {
+                if fr.contour == 0 {
+                    return Err(invalid(format!("cracks[{i}].fracture.contour"), "must be at least 1 (cells from the node nearest the tip)"));
+                }
+            }
             if let ContactSpec::Friction { mu } = c.contact {
                 if !(mu >= 0.0 && mu.is_finite()) {
                     return Err(invalid(format!("cracks[{i}].contact.friction.mu"), format!("must be zero or positive, got {mu}")));
                 }
+            }
+            if s.crack_method == CrackMethod::Visibility && c.contact != ContactSpec::None {
+                return Err(invalid(
+                    format!("cracks[{i}].contact"),
+                    "solver.crack_method = \"visibility\" has one velocity field per node and no crack contact; \
+                     set contact = \"none\" (or use crack_method = \"velocity_fields\")",
+                ));
             }
         }
         let (lo, hi) = (v(g.origin), v(g.origin) + v(g.size));
@@ -597,7 +644,8 @@ impl Scene {
                     ContactSpec::Frictionless => ContactLaw::Friction(0.0),
                     ContactSpec::Friction { mu } => ContactLaw::Friction(mu),
                 };
-                Crack::new(c.points.iter().map(|p| v(*p)).collect(), law, c.v_sep, c.v_contact)
+                let vertices: Vec<Vector> = c.points.iter().map(|p| v(*p)).collect();
+                Crack::new(crate::crack::subdivide(&vertices, 0.5 * grid.min_h()), law, c.v_sep, c.v_contact)
             })
             .collect();
         let options = Options {
@@ -606,10 +654,29 @@ impl Scene {
             dt: self.time_step(),
             damping: self.solver.damping,
             checked: self.solver.checked,
+            crack_method: self.solver.crack_method,
         };
         let body_force = self.bodies.iter().map(|b| v(b.body_force)).collect();
         let thickness = self.bodies.iter().map(|b| b.thickness).collect();
         Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options))
+    }
+
+    /// Per crack, the J/K request of its `fracture` table (None: not computed).
+    pub fn fracture_requests(&self) -> Vec<Option<JRequest>> {
+        self.cracks
+            .iter()
+            .map(|c| {
+                c.fracture.as_ref().map(|f| JRequest {
+                    tips: match f.tips {
+                        TipsSpec::Start => vec![TipEnd::Start],
+                        TipsSpec::End => vec![TipEnd::End],
+                        TipsSpec::Both => vec![TipEnd::Start, TipEnd::End],
+                    },
+                    contour: f.contour,
+                    area_term: f.area_term,
+                })
+            })
+            .collect()
     }
 
     /// History interval (default end_time / 100).

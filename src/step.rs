@@ -34,10 +34,7 @@ impl Simulation {
         }
         self.task3_forces();
         self.task4_update_momenta()?;
-        let power_before = self.external_power();
         self.task5_update_particles();
-        let power_after = self.external_power();
-        self.work.external_work += 0.5 * dt * (power_before + power_after);
         match scheme {
             // Task 6a: stresses from the momenta of Task 4.
             Scheme::Usl => self.update_stresses(dt),
@@ -122,7 +119,7 @@ impl Simulation {
     /// then nodal masses and momenta per field (eq. 26) and, with cracks, nodal volumes (eq. 27).
     fn task1_extrapolate(&mut self) -> Result<(), CheckError> {
         if self.has_cracks() {
-            self.assign_velocity_fields()?;
+            self.task1_cracks()?;
         }
         self.build_node_incidence();
 
@@ -383,7 +380,11 @@ impl Simulation {
     }
 
     /// Task 5: particle positions and velocities from the updated nodal momenta and the
-    /// total forces (eq. 30), each pair using its own velocity field.
+    /// total forces (eq. 30), each pair using its own velocity field. Also the work of the
+    /// external loads, Σ_p (f_p + m_p b)·Δx_p: the particles move with the grid velocity,
+    /// so this is the work the grid forces f_ext do. (The particle velocity v_p is not
+    /// the velocity to use: FLIP updates leave components in it the grid cannot see, and
+    /// under a load applied to a few rows of particles those correlate with the load.)
     fn task5_update_particles(&mut self) {
         let dt = self.options.dt;
         {
@@ -401,6 +402,9 @@ impl Simulation {
         let nodes = &self.nodes;
         let pairs = &self.pairs;
         let p = &mut self.particles;
+        let body_force = &self.body_force;
+        let has_ext = !self.loads.is_empty() || body_force.iter().any(|b| *b != Vector::zeros());
+        let mut work = ExactSum::new();
         let mut s: [ExactSum; 4] = Default::default();
         for i in 0..p.len() {
             s.iter_mut().for_each(ExactSum::clear);
@@ -414,9 +418,15 @@ impl Simulation {
                 s[2].add(w * fa.acc[n].x);
                 s[3].add(w * fa.acc[n].y);
             }
-            p.x[i] += Vector::new(s[0].value(), s[1].value()) * dt;
+            let dx = Vector::new(s[0].value(), s[1].value()) * dt;
+            if has_ext {
+                let f = p.force[i] + body_force[p.body[i] as usize] * p.mass[i];
+                work.add(f.dot(&dx));
+            }
+            p.x[i] += dx;
             p.v[i] += Vector::new(s[2].value(), s[3].value()) * dt;
         }
+        self.work.external_work += work.value();
     }
 
     /// Task 6c: extrapolate the new particle momenta to the grid with the shape functions
@@ -451,19 +461,6 @@ impl Simulation {
         if self.has_cracks() {
             self.apply_contact_to_momenta();
         }
-    }
-
-    /// Σ (f_p + m_p b)·v_p over the particles: the power of the external loads.
-    fn external_power(&self) -> f64 {
-        let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
-        if self.loads.is_empty() && !has_body {
-            return 0.0;
-        }
-        let p = &self.particles;
-        crate::exact::sum_iter((0..p.len()).map(|i| {
-            let f = p.force[i] + self.body_force[p.body[i] as usize] * p.mass[i];
-            f.dot(&p.v[i])
-        }))
     }
 
     /// Exact total of the nodal momenta over all fields.

@@ -28,7 +28,12 @@ pub struct NodalState {
     pub grad_u: Tensor,
     /// Strain-energy density W (per unit undeformed volume), eq. 9.
     pub strain_energy: f64,
-    /// Kinetic-energy density ½ρ|v|² (eq. 9), with the particle's initial density.
+    /// Kinetic-energy density ½ρ|v|² (eq. 9) from this field's nodal velocity and the
+    /// extrapolated (initial) density. The paper extrapolates the particles' ½ρv²
+    /// instead; the two agree for a smooth velocity field, but particle velocities also
+    /// carry components the grid cannot represent (the null space of the particle-to-grid
+    /// map, which FLIP-type updates never damp: after a sudden load they persist through
+    /// any amount of damping), and those would add spurious kinetic energy to J.
     pub kinetic_energy: f64,
     /// Nodal velocity of this field (momentum over mass).
     pub velocity: Vector,
@@ -36,7 +41,7 @@ pub struct NodalState {
     pub acceleration: Vector,
 }
 
-/// Number of scalar quantities gathered per field: 4 stress + 4 gradient + W + K.
+/// Number of scalar quantities gathered per field: 4 stress + 4 gradient + W + ρ.
 const NQ: usize = 10;
 
 impl Simulation {
@@ -71,7 +76,7 @@ impl Simulation {
                 g[(1, 0)],
                 g[(1, 1)],
                 mat.energy_density(&p.strain[pp], s),
-                0.5 * rho * p.v[pp].norm_squared(),
+                rho,
             ];
             for (a, v) in acc[f].iter_mut().zip(q) {
                 a.add(w * v);
@@ -84,12 +89,13 @@ impl Simulation {
             let fa = &nodes.fields[f];
             let m = fa.mass[node];
             let v: [f64; NQ] = std::array::from_fn(|k| acc[f][k].value() / m);
+            let velocity = fa.mom[node] / m;
             out[f] = Some(NodalState {
                 stress: Sym { xx: v[0], yy: v[1], zz: v[2], xy: v[3] },
                 grad_u: Tensor::new(v[4], v[5], v[6], v[7]),
                 strain_energy: v[8],
-                kinetic_energy: v[9],
-                velocity: fa.mom[node] / m,
+                kinetic_energy: 0.5 * v[9] * velocity.norm_squared(),
+                velocity,
                 acceleration: fa.ftot[node] / m,
             });
         }
