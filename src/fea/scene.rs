@@ -392,10 +392,16 @@ impl SceneFea {
 
         let mesh = &grid_mesh.mesh;
         let mut bcs = BoundaryConditions::new(mesh);
-        let mut notes =
-            vec!["static, linear-elastic, small-strain analysis: solver.damping, solver.end_time, the time step, the \
-             scheme and the shape functions are not used"
-                .to_string()];
+        let mut notes = vec!["static, linear-elastic, small-strain analysis: solver.damping, solver.end_time, the \
+                              time step, the scheme and the shape functions are not used"
+            .to_string()];
+        if !scene.cracks.is_empty() && scene.solver.crack_method == crate::crack::CrackMethod::Visibility {
+            notes.push(
+                "solver.crack_method = \"visibility\" is an MPM option: the FEA meshes the cracks (duplicated nodes), \
+                 which is what the default velocity fields reproduce"
+                    .to_string(),
+            );
+        }
 
         // Supports on every mesh node at a constrained grid node.
         for &g in &sim.bcs.nodes {
