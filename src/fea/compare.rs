@@ -228,22 +228,28 @@ pub fn fea_stress_at(fea: &SceneFea, sol: &Solution, x: Vector) -> Option<Sym> {
     Some(ElementProperties::new(material, thickness).stress_from_strain(&eps))
 }
 
+/// Solve `scene` with the FEA and compare with the finished MPM run `sim` of the same
+/// scene along the grid line of crack 0 (see the module doc).
+pub fn compare_with_fea(sim: &Simulation, scene: &Scene) -> anyhow::Result<LineComparison> {
+    let t0 = Instant::now();
+    let fea = SceneFea::from_scene(scene)?;
+    let analysis = fea.analyse()?;
+    let mut c = compare_on_crack_line(sim, &fea, &analysis.solution, 0)?;
+    c.title = scene.title.clone();
+    c.fea_wall_s = t0.elapsed().as_secs_f64();
+    c.fea_strain_energy = analysis.strain_energy;
+    Ok(c)
+}
+
 /// Run the scene with the MPM to its end time (damped to the static state) and with the
 /// FEA, and compare σxx on the grid line of crack 0 (see the module doc). `checked`
 /// overrides the scene's `solver.checked`.
 pub fn mpm_vs_fea(scene: &Scene, checked: Option<bool>) -> anyhow::Result<LineComparison> {
-    let t0 = Instant::now();
-    let fea = SceneFea::from_scene(scene)?;
-    let analysis = fea.analyse()?;
-    let fea_wall_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let run = run_scene(scene, &RunOptions { out_dir: None, progress: false, checked })?;
     let mpm_wall_s = t1.elapsed().as_secs_f64();
-    let mut c = compare_on_crack_line(&run.sim, &fea, &analysis.solution, 0)?;
-    c.title = scene.title.clone();
+    let mut c = compare_with_fea(&run.sim, scene)?;
     c.mpm_wall_s = mpm_wall_s;
-    c.fea_wall_s = fea_wall_s;
-    c.fea_strain_energy = analysis.strain_energy;
     Ok(c)
 }
 
