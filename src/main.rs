@@ -65,6 +65,15 @@ enum Command {
     },
     /// Run the embedded demo scene (two colliding disks) into out/demo/.
     Demo,
+    /// Solve a scene statically with the Q4 FEA: fea.vtk, fea_gauss.vtk, fea_nodes.csv,
+    /// probe CSVs and fea_summary.json (J, K per crack tip) in --out.
+    Fea {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Output directory (default: out/<scene name>-fea).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
 }
 
 /// Exit status of `cramp compare` when the runs cannot be compared (bad input).
@@ -74,6 +83,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Run { scene, out, unchecked }) => run(scene, out, unchecked).map(|()| ExitCode::SUCCESS),
+        Some(Command::Fea { scene, out }) => fea(scene, out).map(|()| ExitCode::SUCCESS),
         Some(Command::Demo) => run_demo().map(|()| ExitCode::SUCCESS),
         Some(Command::Verify { quick, out, list, cases }) => {
             if list {
@@ -153,6 +163,14 @@ fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool) -> anyhow::Re
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(stem));
     execute(&scene, out, unchecked)
+}
+
+fn fea(scene_path: PathBuf, out: Option<PathBuf>) -> anyhow::Result<()> {
+    let scene = Scene::from_file(&scene_path)?;
+    let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-fea")));
+    print!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text());
+    Ok(())
 }
 
 fn run_demo() -> anyhow::Result<()> {

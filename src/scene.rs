@@ -51,6 +51,9 @@ pub struct Scene {
     pub loads: Vec<LoadSpec>,
     #[serde(default)]
     pub cracks: Vec<CrackSpec>,
+    /// Line probes: stresses sampled along segments (written by `cramp fea`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<ProbeSpec>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -260,6 +263,20 @@ fn default_contour() -> usize {
     2
 }
 
+/// A line probe: `points` equally spaced samples from `from` to `to` (both included).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec {
+    /// Name, used in the file name `probe_<name>.csv`: letters, digits, `_` and `-`.
+    pub name: String,
+    /// Start point.
+    pub from: [f64; 2],
+    /// End point.
+    pub to: [f64; 2],
+    /// Number of sample points, both ends included (2 to 100000).
+    pub points: usize,
+}
+
 fn default_contact() -> ContactSpec {
     ContactSpec::Frictionless
 }
@@ -302,14 +319,14 @@ impl ShapeSpec {
 impl Selection {
     /// Matching tolerance for a grid of cell size h: round-off for regions, a quarter
     /// cell for lines (so a line drawn along a row of nodes or particles selects it).
-    fn tolerance(&self, h: f64) -> f64 {
+    pub(crate) fn tolerance(&self, h: f64) -> f64 {
         match self {
             Selection::Region { .. } => 1e-9 * h,
             Selection::Line { .. } => 0.25 * h,
         }
     }
 
-    fn contains(&self, x: &Vector, tol: f64) -> bool {
+    pub(crate) fn contains(&self, x: &Vector, tol: f64) -> bool {
         match self {
             Selection::Region { min, max } => {
                 x.x >= min[0] - tol && x.x <= max[0] + tol && x.y >= min[1] - tol && x.y <= max[1] + tol
@@ -469,6 +486,30 @@ impl Scene {
                     "solver.crack_method = \"visibility\" has one velocity field per node and no crack contact; \
                      set contact = \"none\" (or use crack_method = \"velocity_fields\")",
                 ));
+            }
+        }
+        let (lo, hi) = (v(g.origin), v(g.origin) + v(g.size));
+        for (i, p) in self.probes.iter().enumerate() {
+            let f = |n: &str| format!("probes[{i}].{n}");
+            if p.name.is_empty() || !p.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+                return Err(invalid(f("name"), format!("must be non-empty letters, digits, '_' or '-' (it names the file probe_<name>.csv), got '{}'", p.name)));
+            }
+            if self.probes[..i].iter().any(|o| o.name == p.name) {
+                return Err(invalid(f("name"), format!("duplicate probe name '{}'", p.name)));
+            }
+            for (key, x) in [("from", p.from), ("to", p.to)] {
+                finite(&format!("{}[0]", f(key)), x[0])?;
+                finite(&format!("{}[1]", f(key)), x[1])?;
+                let tol = 1e-9 * (g.cell[0].min(g.cell[1]));
+                if x[0] < lo.x - tol || x[1] < lo.y - tol || x[0] > hi.x + tol || x[1] > hi.y + tol {
+                    return Err(invalid(f(key), format!("{x:?} lies outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
+                }
+            }
+            if p.from == p.to {
+                return Err(invalid(f("to"), format!("equals `from` {:?}: a probe line needs two different end points", p.from)));
+            }
+            if !(2..=100_000).contains(&p.points) {
+                return Err(invalid(f("points"), format!("must be 2 to 100000 (both ends are sampled), got {}", p.points)));
             }
         }
         Ok(())

@@ -32,7 +32,7 @@ const SIGMA: f64 = 1.0;
 /// `half_width`: x-extent of the modelled body from 0; `symmetric`: rollers at x = 0
 /// (the CCT's mirror plane) and the crack from outside to x = a; otherwise the SENT,
 /// whose edge crack runs from outside the left edge x = 0 to x = a.
-fn plate(h: f64, width: f64, half_height: f64, a: f64, symmetric: bool, ramp: f64, damping: f64, end: f64) -> String {
+fn plate(h: f64, width: f64, half_height: f64, a: f64, symmetric: bool, ramp: f64, damping: f64, end: f64, shift: f64) -> String {
     let force = SIGMA * width;
     let mut s = format!(
         r#"
@@ -66,7 +66,7 @@ points = [[{cx}, 0.0], [{a}, 0.0]]
 contact = "none"
 fracture = {{ tips = "end" }}
 "#,
-        x0 = -2.0 * h - 0.25 * h,
+        x0 = -2.0 * h - shift * h,
         y0 = -half_height - 2.0 * h,
         sx = width + 4.0 * h,
         sy = 2.0 * half_height + 4.0 * h,
@@ -82,39 +82,65 @@ fracture = {{ tips = "end" }}
     s
 }
 
-fn k_static(text: &str) -> (Vec<(f64, f64)>, f64) {
+/// K_I (2×2 contour) after the load has been ramped and damped out; asserts it has
+/// settled (the last two samples agree within 0.1 %).
+fn k_static(text: &str) -> f64 {
     let scene = Scene::from_toml(text, "plate").unwrap();
     let mut sim = scene.build().unwrap();
     let end = scene.solver.end_time;
-    let mut out = Vec::new();
-    let mut next = 0.1 * end;
-    while sim.time + 0.5 * sim.options.dt < end {
-        sim.run_until(next, |_| {}).unwrap();
-        next += 0.1 * end;
-        let t = sim.tip_fracture(0, TipEnd::End, 2, false, 0.0).unwrap();
-        let t3 = sim.tip_fracture(0, TipEnd::End, 3, false, 0.0).unwrap();
-        out.push((t.k1, t3.k1));
+    let mut ks = Vec::new();
+    for k in [0.8, 0.9, 1.0] {
+        sim.run_until(k * end, |_| {}).unwrap();
+        ks.push(sim.tip_fracture(0, TipEnd::End, 2, false, 0.0).unwrap().k1);
     }
-    (out, sim.time)
+    let n = ks.len();
+    assert!((ks[n - 1] - ks[n - 2]).abs() <= 1e-3 * ks[n - 1], "not settled: {ks:?}");
+    ks[n - 1]
 }
 
+/// The relative errors at h and h/2 must shrink at about first order (the crack tip is
+/// resolved to a cell: the CRAMP displacement jump ends somewhere in the tip's cell),
+/// and the Richardson extrapolation 2e(h/2) − e(h) must be within 2 % — the issue's
+/// tolerance, which the handbook formulas (0.1 %, 0.5 %) and the finite plate height
+/// leave room for. The raw errors are printed; 2 % at a single resolution needs
+/// ~0.25 mm cells (`cramp verify`).
+fn assert_first_order_convergence(name: &str, e: [f64; 2]) {
+    let order = (e[0] / e[1]).log2();
+    let extrapolated = 2.0 * e[1] - e[0];
+    println!("{name}: errors {:+.2} % (h = 1 mm), {:+.2} % (h = 0.5 mm); observed order {order:.2}; Richardson {:+.2} %", 100.0 * e[0], 100.0 * e[1], 100.0 * extrapolated);
+    assert!(e[1].abs() < e[0].abs(), "{name}: no convergence");
+    assert!((0.5..=1.5).contains(&order), "{name}: observed order {order}");
+    assert!(extrapolated.abs() <= 0.02, "{name}: extrapolated error {extrapolated}");
+}
+
+/// Centre-cracked plate, 2b = 20 mm, half-height 30 mm = 3b, a = 5 − h/2 (a/b ≈ 0.48):
+/// the right half with rollers on the mirror plane x = 0 (a grid line), the tip in the
+/// middle of a cell.
 #[test]
-fn explore_plates() {
-    let h: f64 = std::env::var("H").ok().and_then(|v| v.parse().ok()).unwrap_or(1.0);
-    let (a, b) = (5.0, 10.0);
-    let text = plate(h, b, 30.0, a, true, 0.25, 60.0, 0.6);
-    let (k, _) = k_static(&text);
-    let kref = SIGMA * (std::f64::consts::PI * a).sqrt() * tada_cct(a / b);
-    for (k2, k3) in &k {
-        println!("CCT h={h}: K(2x2)={k2:.4} ({:+.2}%) K(3x3)={k3:.4} ({:+.2}%)", 100.0 * (k2 / kref - 1.0), 100.0 * (k3 / kref - 1.0));
+fn centre_cracked_plate_k_converges_to_tada() {
+    let b = 10.0;
+    let mut e = [0.0; 2];
+    for (k, h) in [1.0, 0.5].into_iter().enumerate() {
+        let a = 5.0 - 0.5 * h;
+        let k_ref = SIGMA * (std::f64::consts::PI * a).sqrt() * tada_cct(a / b);
+        let kk = k_static(&plate(h, b, 30.0, a, true, 0.25, 60.0, 0.6, 0.0));
+        e[k] = kk / k_ref - 1.0;
+        println!("CCT h = {h}: a = {a}, K_I = {kk:.4}, Tada {k_ref:.4}");
     }
-    let (a, w) = (6.0, 20.0);
-    let text = plate(h, w, 20.0, a, false, 0.25, 60.0, 0.6);
-    let (k, _) = k_static(&text);
-    let kref = SIGMA * (std::f64::consts::PI * a).sqrt() * tada_sent(a / w);
-    for (k2, k3) in &k {
-        println!("SENT h={h}: K(2x2)={k2:.4} ({:+.2}%) K(3x3)={k3:.4} ({:+.2}%)", 100.0 * (k2 / kref - 1.0), 100.0 * (k3 / kref - 1.0));
-    }
-    println!("F_cct(0.5) = {}, F_sent(0.3) = {}", tada_cct(0.5), tada_sent(0.3));
+    assert_first_order_convergence("CCT", e);
 }
 
+/// Single-edge-notched plate, W = 20 mm, half-height 20 mm = W, a = 6 mm (a/W = 0.3),
+/// uniform traction on both ends, the tip in the middle of a cell.
+#[test]
+fn single_edge_notched_plate_k_converges_to_tada() {
+    let (a, w) = (6.0, 20.0);
+    let k_ref = SIGMA * (std::f64::consts::PI * a).sqrt() * tada_sent(a / w);
+    let mut e = [0.0; 2];
+    for (k, h) in [1.0, 0.5].into_iter().enumerate() {
+        let kk = k_static(&plate(h, w, 20.0, a, false, 0.25, 60.0, 0.6, 0.5));
+        e[k] = kk / k_ref - 1.0;
+        println!("SENT h = {h}: K_I = {kk:.4}, Tada {k_ref:.4}");
+    }
+    assert_first_order_convergence("SENT", e);
+}

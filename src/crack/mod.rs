@@ -271,7 +271,7 @@ impl Simulation {
     /// follows from its fields when the crack split it ({0,1}: below; {0,2}: above;
     /// {1,2}: on the crack) and from the geometry otherwise; a node whose side is
     /// unknown (ahead of a tip, or far) gives field 0.
-    fn surface_field(&self, c: usize, points: &[Vector], i: usize, above: bool, reach: f64) -> Option<usize> {
+    pub(crate) fn surface_field(&self, c: usize, points: &[Vector], i: usize, above: bool, reach: f64) -> Option<usize> {
         let nodes = &self.nodes;
         let present = nodes.present[i];
         let has = |f: usize| present & (1 << f) != 0;

@@ -23,8 +23,13 @@
 //!   straight ahead (eq. 10); J₂ = J·e₂′.
 //! * **K_I, K_II** (eqs. 14–15 with the speed factors of [`crate::fracture::speed`]): G
 //!   split by the crack-opening displacements δ_I (normal) and δ_II (sliding) of the
-//!   crack surfaces at the crack particle next to the tip; δ is the upper (+x₂′) face's
-//!   position minus the lower face's.
+//!   tracked crack surfaces (001 eqs. 11–12) at the crack particle next to the tip; δ is
+//!   the upper (+x₂′) face's position minus the lower face's. Known limitation: the
+//!   surfaces integrate the face velocities step by step and pick up the noise of
+//!   small-mass fields, so δ_II/δ_I swings by ±40 % in a damped mixed-mode beam (issue 4
+//!   note). Per-field nodal displacements (eq. 11) at the same point are smooth but
+//!   average the sliding over a cell into the arms and came out 5× too small in δ_II/δ_I;
+//!   neither is good enough for mixed mode yet.
 //!
 //! Which crack surface is "upper": a crack's `above` surface is to the left of the
 //! polyline's direction of travel (first point to last). At the last point (the "end"
@@ -132,6 +137,7 @@ fn lerp(a: &NodalState, b: &NodalState, t: f64) -> NodalState {
         grad_u: a.grad_u + (b.grad_u - a.grad_u) * t,
         strain_energy: l(a.strain_energy, b.strain_energy),
         kinetic_energy: l(a.kinetic_energy, b.kinetic_energy),
+        displacement: a.displacement + (b.displacement - a.displacement) * t,
         velocity: a.velocity + (b.velocity - a.velocity) * t,
         acceleration: a.acceleration + (b.acceleration - a.acceleration) * t,
     }

@@ -35,14 +35,16 @@ pub struct NodalState {
     /// map, which FLIP-type updates never damp: after a sudden load they persist through
     /// any amount of damping), and those would add spurious kinetic energy to J.
     pub kinetic_energy: f64,
+    /// Displacement u = x − x₀.
+    pub displacement: Vector,
     /// Nodal velocity of this field (momentum over mass).
     pub velocity: Vector,
     /// Nodal acceleration of this field (total force over mass) in the last step.
     pub acceleration: Vector,
 }
 
-/// Number of scalar quantities gathered per field: 4 stress + 4 gradient + W + ρ.
-const NQ: usize = 10;
+/// Number of scalar quantities gathered per field: 4 stress + 4 gradient + W + ρ + 2 displacement.
+const NQ: usize = 12;
 
 impl Simulation {
     /// Eq. 11 at one node: the extrapolated state of each field present there
@@ -77,6 +79,8 @@ impl Simulation {
                 g[(1, 1)],
                 mat.energy_density(&p.strain[pp], s),
                 rho,
+                p.x[pp].x - p.x0[pp].x,
+                p.x[pp].y - p.x0[pp].y,
             ];
             for (a, v) in acc[f].iter_mut().zip(q) {
                 a.add(w * v);
@@ -95,6 +99,7 @@ impl Simulation {
                 grad_u: Tensor::new(v[4], v[5], v[6], v[7]),
                 strain_energy: v[8],
                 kinetic_energy: 0.5 * v[9] * velocity.norm_squared(),
+                displacement: Vector::new(v[10], v[11]),
                 velocity,
                 acceleration: fa.ftot[node] / m,
             });
