@@ -137,6 +137,19 @@ impl Pairs {
             fill: Vec::with_capacity(nn),
         }
     }
+
+    /// Pair indices of node `i` (after the CSR build of Task 1).
+    #[inline]
+    pub fn of_node(&self, i: usize) -> &[u32] {
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    /// Pair indices of particle `p`.
+    #[inline]
+    pub fn of_particle(&self, p: usize) -> std::ops::Range<usize> {
+        let base = p * MAX_NODES;
+        base..base + self.count[p] as usize
+    }
 }
 
 /// One MPM analysis: everything the time step reads and writes.
@@ -155,6 +168,8 @@ pub struct Simulation {
     pub options: Options,
     pub nodes: Nodes,
     pub pairs: Pairs,
+    /// Buffers of the parallel gathers, kept across steps.
+    pub scratch: crate::step::Scratch,
     pub time: f64,
     pub step_count: u64,
     /// Accumulated external work and damping (kinetic and strain are computed on demand).
@@ -203,6 +218,7 @@ impl Simulation {
             options,
             nodes,
             pairs: Pairs::with_capacity(np, nn),
+            scratch: Default::default(),
             time: 0.0,
             step_count: 0,
             work: Energies::default(),

@@ -7,10 +7,12 @@
 
 use crate::check::{CheckError, MASS_TOL, MOMENTUM_TOL, PARTITION_TOL};
 use crate::dim::{Sym, Tensor, Vector};
-use crate::exact::ExactSum;
+use crate::exact::{Accumulator, ExactSum, FastSum};
+use crate::grid::{Grid, MAX_FIELDS};
 use crate::material::Constitutive;
 use crate::shape::{self, ShapeKind, MAX_NODES};
 use crate::simulation::{Scheme, Simulation};
+use rayon::prelude::*;
 
 impl Simulation {
     /// Advance one time step (Tasks 0–8).
@@ -67,59 +69,72 @@ impl Simulation {
 
     /// Task 0: shape functions and gradients at the particle positions (eq. 24), stored
     /// per particle/node pair. A particle outside the grid always stops the run.
+    ///
+    /// In parallel over particles: each particle writes only its own stride of the pair
+    /// arrays. A failing particle is reported by the lowest index, as a serial loop would.
     fn task0_shape_functions(&mut self) -> Result<(), CheckError> {
         let grid = &self.grid;
         let kind = self.options.shape;
         let checked = self.options.checked;
-        let step = self.step_count;
         let p = &self.particles;
         let pairs = &mut self.pairs;
-        let lo = grid.origin;
-        let hi = grid.max_corner();
-        for i in 0..p.len() {
-            let x = p.x[i];
-            let margin = match kind {
-                ShapeKind::Linear => Vector::zeros(),
-                ShapeKind::Ugimp => p.lp[i],
-            };
-            let inside = x.x - margin.x >= lo.x
-                && x.x + margin.x <= hi.x
-                && x.y - margin.y >= lo.y
-                && x.y + margin.y <= hi.y;
-            if !inside {
-                return Err(CheckError::OutsideGrid {
-                    step,
-                    particle: i,
-                    id: p.id[i],
-                    x: x.x,
-                    y: x.y,
-                    xmin: lo.x,
-                    xmax: hi.x,
-                    ymin: lo.y,
-                    ymax: hi.y,
-                });
-            }
-            let w = shape::weights(grid, kind, &x, &p.lp[i]);
-            let base = i * MAX_NODES;
-            pairs.count[i] = w.n as u8;
-            pairs.node[base..base + w.n].copy_from_slice(&w.node[..w.n]);
-            pairs.s[base..base + w.n].copy_from_slice(&w.s[..w.n]);
-            pairs.g[base..base + w.n].copy_from_slice(&w.g[..w.n]);
-            if checked {
-                let sum_s = crate::exact::sum(&w.s[..w.n]);
-                let gx = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.x));
-                let gy = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.y));
-                let gtol = PARTITION_TOL / grid.min_h();
-                if (sum_s - 1.0).abs() > PARTITION_TOL || gx.abs() > gtol || gy.abs() > gtol {
-                    return Err(CheckError::PartitionOfUnity { step, particle: i, id: p.id[i], sum_s, gx, gy });
+        let first_bad = (
+            pairs.count.par_iter_mut(),
+            pairs.node.par_chunks_mut(MAX_NODES),
+            pairs.s.par_chunks_mut(MAX_NODES),
+            pairs.g.par_chunks_mut(MAX_NODES),
+        )
+            .into_par_iter()
+            .with_min_len(PARTICLE_CHUNK)
+            .enumerate()
+            .filter_map(|(i, (count, node, s, g))| {
+                if !inside_grid(grid, kind, &p.x[i], &p.lp[i]) {
+                    return Some(i);
                 }
-            }
+                let w = shape::weights(grid, kind, &p.x[i], &p.lp[i]);
+                *count = w.n as u8;
+                node[..w.n].copy_from_slice(&w.node[..w.n]);
+                s[..w.n].copy_from_slice(&w.s[..w.n]);
+                g[..w.n].copy_from_slice(&w.g[..w.n]);
+                (checked && partition_of_unity_error(grid, &w).is_some()).then_some(i)
+            })
+            .min();
+        match first_bad {
+            None => Ok(()),
+            Some(i) => Err(self.task0_error(i)),
         }
-        Ok(())
+    }
+
+    /// The error for particle `i`, which failed Task 0: outside the grid, or (checked
+    /// mode) a broken partition of unity.
+    #[cold]
+    fn task0_error(&self, i: usize) -> CheckError {
+        let (grid, p, kind, step) = (&self.grid, &self.particles, self.options.shape, self.step_count);
+        let x = p.x[i];
+        if !inside_grid(grid, kind, &x, &p.lp[i]) {
+            let (lo, hi) = (grid.origin, grid.max_corner());
+            return CheckError::OutsideGrid {
+                step,
+                particle: i,
+                id: p.id[i],
+                x: x.x,
+                y: x.y,
+                xmin: lo.x,
+                xmax: hi.x,
+                ymin: lo.y,
+                ymax: hi.y,
+            };
+        }
+        let w = shape::weights(grid, kind, &x, &p.lp[i]);
+        let (sum_s, gx, gy) = partition_of_unity_error(grid, &w).expect("task 0 reported this particle");
+        CheckError::PartitionOfUnity { step, particle: i, id: p.id[i], sum_s, gx, gy }
     }
 
     /// Task 1: velocity field of every particle/node pair (line crossing, cracks only),
     /// then nodal masses and momenta per field (eq. 26) and, with cracks, nodal volumes (eq. 27).
+    ///
+    /// Each node's sums are a gather over its pairs, independent of every other node's:
+    /// computed in parallel over the active nodes, then stored in node order.
     fn task1_extrapolate(&mut self) -> Result<(), CheckError> {
         if self.has_cracks() {
             self.assign_velocity_fields()?;
@@ -128,44 +143,30 @@ impl Simulation {
 
         let with_cracks = self.has_cracks();
         let nf = self.nodes.fields.len();
-        let p = &self.particles;
-        let pairs = &self.pairs;
-        let thickness = &self.thickness;
+        let mut sums = std::mem::take(&mut self.scratch.mass);
+        let this = &*self;
+        this.nodes
+            .active
+            .par_iter()
+            .with_min_len(NODE_CHUNK)
+            .map(|&node| match with_cracks {
+                false => fast_or_exact(|| this.node_mass::<FastSum, false>(node), || this.node_mass::<ExactSum, false>(node)),
+                true => fast_or_exact(|| this.node_mass::<FastSum, true>(node), || this.node_mass::<ExactSum, true>(node)),
+            })
+            .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
-        let mut acc = [[ExactSum::new(), ExactSum::new(), ExactSum::new()], [ExactSum::new(), ExactSum::new(), ExactSum::new()], [ExactSum::new(), ExactSum::new(), ExactSum::new()]];
-        let mut vol = ExactSum::new();
-        for &node in &nodes.active {
+        for (&node, g) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
-            for a in acc.iter_mut().take(nf) {
-                a.iter_mut().for_each(ExactSum::clear);
-            }
-            vol.clear();
-            let mut present = 0u8;
-            for &item in &pairs.items[pairs.start[i] as usize..pairs.start[i + 1] as usize] {
-                let item = item as usize;
-                let pp = item / MAX_NODES;
-                let f = pairs.field[item] as usize;
-                let s = pairs.s[item];
-                let m = p.mass[pp];
-                present |= 1 << f;
-                acc[f][0].add(m * s);
-                acc[f][1].add(m * p.v[pp].x * s);
-                acc[f][2].add(m * p.v[pp].y * s);
-                if with_cracks {
-                    // Nodal area (eq. 27 per unit thickness), compared with the cell area.
-                    vol.add(p.volume(pp) / thickness[p.body[pp] as usize] * s);
-                }
-            }
-            nodes.present[i] = present;
-            for (f, a) in acc.iter().enumerate().take(nf) {
-                let fa = &mut nodes.fields[f];
-                fa.mass[i] = a[0].value();
-                fa.mom[i] = Vector::new(a[1].value(), a[2].value());
+            nodes.present[i] = g.present;
+            for (f, fa) in nodes.fields.iter_mut().enumerate().take(nf) {
+                fa.mass[i] = g.mass[f];
+                fa.mom[i] = g.mom[f];
             }
             if with_cracks {
-                nodes.volume[i] = vol.value();
+                nodes.volume[i] = g.volume;
             }
         }
+        self.scratch.mass = sums;
         if with_cracks {
             self.finish_crack_nodes()?;
         }
@@ -256,72 +257,61 @@ impl Simulation {
     /// Stress and strain update (appendix, "Updating Stresses and Strains"): nodal
     /// velocities from the latest momenta (eq. 34), the velocity gradient at each particle
     /// (eq. 36, summed exactly), the strain increment (eq. 35), and the constitutive law.
+    /// In parallel over particles (each particle reads the grid and writes only itself).
     pub(crate) fn update_stresses(&mut self, dt_star: f64) {
         self.compute_nodal_velocities();
-        let nodes = &self.nodes;
-        let pairs = &self.pairs;
+        let with_cracks = self.has_cracks();
+        let mut grads = std::mem::take(&mut self.scratch.grad_v);
+        let this = &*self;
+        let grad_v = |i: usize| match with_cracks {
+            false => fast_or_exact(|| this.velocity_gradient::<FastSum, false>(i), || this.velocity_gradient::<ExactSum, false>(i)),
+            true => fast_or_exact(|| this.velocity_gradient::<FastSum, true>(i), || this.velocity_gradient::<ExactSum, true>(i)),
+        };
+        // Velocity gradients first (reading the grid), then the particle updates.
+        (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(grad_v).collect_into_vec(&mut grads);
+        let materials = &self.materials;
         let p = &mut self.particles;
-        let mut l = [ExactSum::new(), ExactSum::new(), ExactSum::new(), ExactSum::new()];
-        for i in 0..p.len() {
-            l.iter_mut().for_each(ExactSum::clear);
-            let base = i * MAX_NODES;
-            for k in base..base + pairs.count[i] as usize {
-                let v = nodes.fields[pairs.field[k] as usize].vel[pairs.node[k] as usize];
-                let g = pairs.g[k];
-                l[0].add(v.x * g.x);
-                l[1].add(v.x * g.y);
-                l[2].add(v.y * g.x);
-                l[3].add(v.y * g.y);
-            }
-            let grad_v = Tensor::new(l[0].value(), l[1].value(), l[2].value(), l[3].value());
-            let dl = grad_v * dt_star;
-            let de = Sym::sym_part(&dl);
-            let mat = &self.materials[p.material[i] as usize];
-            mat.update(&de, &mut p.strain[i], &mut p.stress[i]);
-            p.grad_u[i] += dl;
-        }
+        (p.strain.par_iter_mut(), p.stress.par_iter_mut(), p.grad_u.par_iter_mut(), p.material.par_iter(), grads.par_iter())
+            .into_par_iter()
+            .with_min_len(PARTICLE_CHUNK)
+            .for_each(|(strain, stress, grad_u, &material, grad_v)| {
+                let dl = grad_v * dt_star;
+                let de = Sym::sym_part(&dl);
+                materials[material as usize].update(&de, strain, stress);
+                *grad_u += dl;
+            });
+        self.scratch.grad_v = grads;
     }
 
     /// Task 3: internal and external nodal forces per field (eq. 28), total force with
     /// damping −κp, zeroed in fixed directions. Also accumulates the damping energy.
+    /// The per-node gathers run in parallel over the active nodes.
     fn task3_forces(&mut self) {
         let kappa = self.options.damping;
         let nf = self.nodes.fields.len();
-        let p = &self.particles;
-        let pairs = &self.pairs;
+        let with_cracks = self.has_cracks();
+        let has_ext = !self.loads.is_empty() || self.body_force.iter().any(|b| *b != Vector::zeros());
+        let mut sums = std::mem::take(&mut self.scratch.force);
+        let this = &*self;
+        this.nodes
+            .active
+            .par_iter()
+            .with_min_len(NODE_CHUNK)
+            .map(|&node| match with_cracks {
+                false => fast_or_exact(|| this.node_forces::<FastSum, false>(node, has_ext), || this.node_forces::<ExactSum, false>(node, has_ext)),
+                true => fast_or_exact(|| this.node_forces::<FastSum, true>(node, has_ext), || this.node_forces::<ExactSum, true>(node, has_ext)),
+            })
+            .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
-        let body_force = &self.body_force;
-        let has_ext = !self.loads.is_empty() || body_force.iter().any(|b| *b != Vector::zeros());
-        let mut acc: [[ExactSum; 4]; 3] = Default::default();
         let mut damp_power = ExactSum::new();
-        for &node in &nodes.active {
+        for (&node, g) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
-            for a in acc.iter_mut().take(nf) {
-                a.iter_mut().for_each(ExactSum::clear);
-            }
-            for &item in &pairs.items[pairs.start[i] as usize..pairs.start[i + 1] as usize] {
-                let item = item as usize;
-                let pp = item / MAX_NODES;
-                let f = pairs.field[item] as usize;
-                // f_int = −V σ·G (the paper's −m σ̄·G with specific stress σ̄ = σ/ρ).
-                let t = p.stress[pp].dot_vec(&pairs.g[item]);
-                let v0 = p.vol0[pp];
-                acc[f][0].add(-(v0 * t.x));
-                acc[f][1].add(-(v0 * t.y));
-                if has_ext {
-                    let s = pairs.s[item];
-                    let fp = p.force[pp] + body_force[p.body[pp] as usize] * p.mass[pp];
-                    acc[f][2].add(fp.x * s);
-                    acc[f][3].add(fp.y * s);
-                }
-            }
-            for (f, a) in acc.iter().enumerate().take(nf) {
+            for (f, fa) in nodes.fields.iter_mut().enumerate().take(nf) {
                 if nodes.present[i] & (1 << f) == 0 {
                     continue;
                 }
-                let fa = &mut nodes.fields[f];
-                fa.fint[i] = Vector::new(a[0].value(), a[1].value());
-                fa.fext[i] = Vector::new(a[2].value(), a[3].value());
+                fa.fint[i] = g.fint[f];
+                fa.fext[i] = g.fext[f];
                 let mom = fa.mom[i];
                 fa.ftot[i] = (fa.fint[i] + fa.fext[i]) - mom * kappa;
                 if kappa != 0.0 {
@@ -329,6 +319,7 @@ impl Simulation {
                 }
             }
         }
+        self.scratch.force = sums;
         // Fixed directions do not accelerate.
         for &node in &self.bcs.nodes {
             let i = node as usize;
@@ -383,7 +374,8 @@ impl Simulation {
     }
 
     /// Task 5: particle positions and velocities from the updated nodal momenta and the
-    /// total forces (eq. 30), each pair using its own velocity field.
+    /// total forces (eq. 30), each pair using its own velocity field. In parallel over
+    /// particles.
     fn task5_update_particles(&mut self) {
         let dt = self.options.dt;
         {
@@ -398,55 +390,49 @@ impl Simulation {
                 }
             }
         }
-        let nodes = &self.nodes;
-        let pairs = &self.pairs;
+        let with_cracks = self.has_cracks();
+        let mut incs = std::mem::take(&mut self.scratch.increments);
+        let this = &*self;
+        let increments = |i: usize| match with_cracks {
+            false => fast_or_exact(|| this.particle_increments::<FastSum, false>(i), || this.particle_increments::<ExactSum, false>(i)),
+            true => fast_or_exact(|| this.particle_increments::<FastSum, true>(i), || this.particle_increments::<ExactSum, true>(i)),
+        };
+        (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
-        let mut s: [ExactSum; 4] = Default::default();
-        for i in 0..p.len() {
-            s.iter_mut().for_each(ExactSum::clear);
-            let base = i * MAX_NODES;
-            for k in base..base + pairs.count[i] as usize {
-                let fa = &nodes.fields[pairs.field[k] as usize];
-                let n = pairs.node[k] as usize;
-                let w = pairs.s[k];
-                s[0].add(w * fa.vel[n].x);
-                s[1].add(w * fa.vel[n].y);
-                s[2].add(w * fa.acc[n].x);
-                s[3].add(w * fa.acc[n].y);
-            }
-            p.x[i] += Vector::new(s[0].value(), s[1].value()) * dt;
-            p.v[i] += Vector::new(s[2].value(), s[3].value()) * dt;
-        }
+        (p.x.par_iter_mut(), p.v.par_iter_mut(), incs.par_iter()).into_par_iter().with_min_len(PARTICLE_CHUNK).for_each(|(x, v, (vel, acc))| {
+            *x += vel * dt;
+            *v += acc * dt;
+        });
+        self.scratch.increments = incs;
     }
 
     /// Task 6c: extrapolate the new particle momenta to the grid with the shape functions
-    /// and fields of Task 1 (eq. 31), then boundary conditions and contact.
+    /// and fields of Task 1 (eq. 31), then boundary conditions and contact. The per-node
+    /// gathers run in parallel over the active nodes.
     fn task6c_reextrapolate(&mut self) {
         let nf = self.nodes.fields.len();
-        let p = &self.particles;
-        let pairs = &self.pairs;
+        let with_cracks = self.has_cracks();
+        let mut sums = std::mem::take(&mut self.scratch.momentum);
+        let this = &*self;
+        this.nodes
+            .active
+            .par_iter()
+            .with_min_len(NODE_CHUNK)
+            .map(|&node| match with_cracks {
+                false => fast_or_exact(|| this.node_momentum::<FastSum, false>(node), || this.node_momentum::<ExactSum, false>(node)),
+                true => fast_or_exact(|| this.node_momentum::<FastSum, true>(node), || this.node_momentum::<ExactSum, true>(node)),
+            })
+            .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
-        let mut acc: [[ExactSum; 2]; 3] = Default::default();
-        for &node in &nodes.active {
+        for (&node, mom) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
-            for a in acc.iter_mut().take(nf) {
-                a.iter_mut().for_each(ExactSum::clear);
-            }
-            for &item in &pairs.items[pairs.start[i] as usize..pairs.start[i + 1] as usize] {
-                let item = item as usize;
-                let pp = item / MAX_NODES;
-                let f = pairs.field[item] as usize;
-                let s = pairs.s[item];
-                let m = p.mass[pp];
-                acc[f][0].add(m * p.v[pp].x * s);
-                acc[f][1].add(m * p.v[pp].y * s);
-            }
-            for (f, a) in acc.iter().enumerate().take(nf) {
+            for (f, fa) in nodes.fields.iter_mut().enumerate().take(nf) {
                 if nodes.present[i] & (1 << f) != 0 {
-                    nodes.fields[f].mom[i] = Vector::new(a[0].value(), a[1].value());
+                    fa.mom[i] = mom[f];
                 }
             }
         }
+        self.scratch.momentum = sums;
         self.apply_momentum_bcs();
         if self.has_cracks() {
             self.apply_contact_to_momenta();
@@ -560,4 +546,190 @@ impl Simulation {
         }
         Ok(())
     }
+}
+
+/// The sums of the step, one node or one particle at a time, written once for any
+/// [`Accumulator`]: run with [`FastSum`], and with [`ExactSum`] when the fast sum cannot
+/// certify a result (see [`fast_or_exact`]). `CRACKS = false` compiles the crack-free
+/// variant, where every pair is in field 0 (no field look-ups, no volume sums).
+impl Simulation {
+    /// Task 1 at one node: mass and momentum per field (eq. 26), and the nodal area per
+    /// unit thickness (eq. 27) for contact.
+    fn node_mass<A: Accumulator, const CRACKS: bool>(&self, node: u32) -> Option<NodeMass> {
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let mut acc: [[A; 3]; MAX_FIELDS] = Default::default();
+        let mut vol = A::default();
+        let mut present = 0u8;
+        for &item in pairs.of_node(node as usize) {
+            let item = item as usize;
+            let pp = item / MAX_NODES;
+            let f = if CRACKS { pairs.field[item] as usize } else { 0 };
+            let s = pairs.s[item];
+            let m = p.mass[pp];
+            present |= 1 << f;
+            acc[f][0].add(m * s);
+            acc[f][1].add(m * p.v[pp].x * s);
+            acc[f][2].add(m * p.v[pp].y * s);
+            if CRACKS {
+                // Nodal area (eq. 27 per unit thickness), compared with the cell area.
+                vol.add(p.volume(pp) / self.thickness[p.body[pp] as usize] * s);
+            }
+        }
+        let mut out = NodeMass { present, ..Default::default() };
+        for f in 0..self.nodes.fields.len() {
+            out.mass[f] = acc[f][0].certified()?;
+            out.mom[f] = Vector::new(acc[f][1].certified()?, acc[f][2].certified()?);
+        }
+        if CRACKS {
+            out.volume = vol.certified()?;
+        }
+        Some(out)
+    }
+
+    /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
+    fn node_forces<A: Accumulator, const CRACKS: bool>(&self, node: u32, has_ext: bool) -> Option<NodeForce> {
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let mut acc: [[A; 4]; MAX_FIELDS] = Default::default();
+        for &item in pairs.of_node(node as usize) {
+            let item = item as usize;
+            let pp = item / MAX_NODES;
+            let f = if CRACKS { pairs.field[item] as usize } else { 0 };
+            // f_int = −V σ·G (the paper's −m σ̄·G with specific stress σ̄ = σ/ρ).
+            let t = p.stress[pp].dot_vec(&pairs.g[item]);
+            let v0 = p.vol0[pp];
+            acc[f][0].add(-(v0 * t.x));
+            acc[f][1].add(-(v0 * t.y));
+            if has_ext {
+                let s = pairs.s[item];
+                let fp = p.force[pp] + self.body_force[p.body[pp] as usize] * p.mass[pp];
+                acc[f][2].add(fp.x * s);
+                acc[f][3].add(fp.y * s);
+            }
+        }
+        let mut out = NodeForce::default();
+        for f in 0..self.nodes.fields.len() {
+            if self.nodes.present[node as usize] & (1 << f) != 0 {
+                out.fint[f] = Vector::new(acc[f][0].certified()?, acc[f][1].certified()?);
+                out.fext[f] = Vector::new(acc[f][2].certified()?, acc[f][3].certified()?);
+            }
+        }
+        Some(out)
+    }
+
+    /// Task 6c at one node: momentum per field from the new particle velocities (eq. 31).
+    fn node_momentum<A: Accumulator, const CRACKS: bool>(&self, node: u32) -> Option<[Vector; MAX_FIELDS]> {
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let mut acc: [[A; 2]; MAX_FIELDS] = Default::default();
+        for &item in pairs.of_node(node as usize) {
+            let item = item as usize;
+            let pp = item / MAX_NODES;
+            let f = if CRACKS { pairs.field[item] as usize } else { 0 };
+            let s = pairs.s[item];
+            let m = p.mass[pp];
+            acc[f][0].add(m * p.v[pp].x * s);
+            acc[f][1].add(m * p.v[pp].y * s);
+        }
+        let mut out = [Vector::zeros(); MAX_FIELDS];
+        for (f, mom) in out.iter_mut().enumerate().take(self.nodes.fields.len()) {
+            if self.nodes.present[node as usize] & (1 << f) != 0 {
+                *mom = Vector::new(acc[f][0].certified()?, acc[f][1].certified()?);
+            }
+        }
+        Some(out)
+    }
+
+    /// Velocity gradient at particle `i` (eq. 36): Σ v_i ⊗ G_ip over its pairs, each in
+    /// the pair's own velocity field.
+    fn velocity_gradient<A: Accumulator, const CRACKS: bool>(&self, i: usize) -> Option<Tensor> {
+        let (nodes, pairs) = (&self.nodes, &self.pairs);
+        let mut l: [A; 4] = Default::default();
+        for k in pairs.of_particle(i) {
+            let f = if CRACKS { pairs.field[k] as usize } else { 0 };
+            let v = nodes.fields[f].vel[pairs.node[k] as usize];
+            let g = pairs.g[k];
+            l[0].add(v.x * g.x);
+            l[1].add(v.x * g.y);
+            l[2].add(v.y * g.x);
+            l[3].add(v.y * g.y);
+        }
+        Some(Tensor::new(l[0].certified()?, l[1].certified()?, l[2].certified()?, l[3].certified()?))
+    }
+
+    /// Task 5 at particle `i` (eq. 30): (Σ S v_i, Σ S a_i) over its pairs, the velocity
+    /// that moves the particle and the acceleration that updates its velocity.
+    fn particle_increments<A: Accumulator, const CRACKS: bool>(&self, i: usize) -> Option<(Vector, Vector)> {
+        let (nodes, pairs) = (&self.nodes, &self.pairs);
+        let mut s: [A; 4] = Default::default();
+        for k in pairs.of_particle(i) {
+            let f = if CRACKS { pairs.field[k] as usize } else { 0 };
+            let fa = &nodes.fields[f];
+            let n = pairs.node[k] as usize;
+            let w = pairs.s[k];
+            s[0].add(w * fa.vel[n].x);
+            s[1].add(w * fa.vel[n].y);
+            s[2].add(w * fa.acc[n].x);
+            s[3].add(w * fa.acc[n].y);
+        }
+        Some((Vector::new(s[0].certified()?, s[1].certified()?), Vector::new(s[2].certified()?, s[3].certified()?)))
+    }
+}
+
+/// The fast sums if they certify their results, else the exact ones (which always do).
+/// Both give the correctly rounded sums, so the bits do not depend on which was used.
+#[inline]
+fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
+    fast().or_else(exact).expect("ExactSum always certifies its sums")
+}
+
+/// Smallest number of particles a parallel task takes (keeps rayon's overhead small).
+const PARTICLE_CHUNK: usize = 256;
+/// Smallest number of active nodes a parallel task takes.
+const NODE_CHUNK: usize = 64;
+
+/// Is the particle (with its uGIMP domain) inside the grid?
+#[inline]
+fn inside_grid(grid: &Grid, kind: ShapeKind, x: &Vector, lp: &Vector) -> bool {
+    let margin = match kind {
+        ShapeKind::Linear => Vector::zeros(),
+        ShapeKind::Ugimp => *lp,
+    };
+    let (lo, hi) = (grid.origin, grid.max_corner());
+    x.x - margin.x >= lo.x && x.x + margin.x <= hi.x && x.y - margin.y >= lo.y && x.y + margin.y <= hi.y
+}
+
+/// Checked mode: (ΣS, ΣGx, ΣGy) if the weights break the partition of unity, else None.
+#[inline]
+fn partition_of_unity_error(grid: &Grid, w: &shape::Weights) -> Option<(f64, f64, f64)> {
+    let sum_s = crate::exact::sum(&w.s[..w.n]);
+    let gx = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.x));
+    let gy = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.y));
+    let gtol = PARTITION_TOL / grid.min_h();
+    ((sum_s - 1.0).abs() > PARTITION_TOL || gx.abs() > gtol || gy.abs() > gtol).then_some((sum_s, gx, gy))
+}
+
+/// One active node's Task 1 sums, per field.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NodeMass {
+    pub present: u8,
+    pub mass: [f64; MAX_FIELDS],
+    pub mom: [Vector; MAX_FIELDS],
+    pub volume: f64,
+}
+
+/// One active node's Task 3 sums, per field.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NodeForce {
+    pub fint: [Vector; MAX_FIELDS],
+    pub fext: [Vector; MAX_FIELDS],
+}
+
+/// Per-step buffers of the parallel gathers (one entry per active node), kept across
+/// steps so the time step does not allocate.
+#[derive(Clone, Debug, Default)]
+pub struct Scratch {
+    pub mass: Vec<NodeMass>,
+    pub force: Vec<NodeForce>,
+    pub momentum: Vec<[Vector; MAX_FIELDS]>,
+    pub grad_v: Vec<Tensor>,
+    pub increments: Vec<(Vector, Vector)>,
 }
