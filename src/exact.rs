@@ -260,25 +260,38 @@ fn shewchuk_value(p: &[f64]) -> f64 {
     hi
 }
 
-/// Something that sums terms: [`ExactSum`] (always correctly rounded) or [`FastSum`]
+/// Something that sums N quantities term by term (the N components a gather produces
+/// per particle/node pair): [`ExactSums`] (always correctly rounded) or [`FastSum`]
 /// (correctly rounded when it can prove it). The hot gathers are written once, generic
-/// over this trait, run with [`FastSum`], and rerun with [`ExactSum`] in the rare case
-/// that the fast sum cannot certify its result — so every result is the correctly
-/// rounded sum either way, to the bit.
-pub trait Accumulator: Default {
-    fn add(&mut self, x: f64);
-    /// The correctly rounded sum, or None if this accumulator cannot guarantee it.
-    fn certified(&self) -> Option<f64>;
+/// over this trait, run with [`FastSum`], and rerun with [`ExactSums`] in the rare case
+/// that the fast sum cannot certify a result — so every result is the correctly rounded
+/// sum either way, to the bit.
+pub trait Accumulator<const N: usize>: Default {
+    fn add(&mut self, x: [f64; N]);
+    /// The correctly rounded sums, or None if this accumulator cannot guarantee them.
+    fn certified(&self) -> Option<[f64; N]>;
 }
 
-impl Accumulator for ExactSum {
+/// N independent [`ExactSum`]s.
+#[derive(Clone, Debug)]
+pub struct ExactSums<const N: usize>(pub [ExactSum; N]);
+
+impl<const N: usize> Default for ExactSums<N> {
+    fn default() -> Self {
+        ExactSums(std::array::from_fn(|_| ExactSum::new()))
+    }
+}
+
+impl<const N: usize> Accumulator<N> for ExactSums<N> {
     #[inline]
-    fn add(&mut self, x: f64) {
-        ExactSum::add(self, x)
+    fn add(&mut self, x: [f64; N]) {
+        for (s, x) in self.0.iter_mut().zip(x) {
+            s.add(x);
+        }
     }
     #[inline]
-    fn certified(&self) -> Option<f64> {
-        Some(self.value())
+    fn certified(&self) -> Option<[f64; N]> {
+        Some(std::array::from_fn(|k| self.0[k].value()))
     }
 }
 
@@ -322,71 +335,86 @@ impl Accumulator for ExactSum {
 ///
 /// All-zero sums are certified: s starts at −0, so s is the IEEE sum of the zeros (−0
 /// only if every term is −0), as for [`ExactSum`]; no terms give +0.
+///
+/// The N lanes are independent sums sharing the term count; the lane-wise operations
+/// on `[f64; N]` let the compiler use SIMD registers for them.
 #[derive(Clone, Copy, Debug)]
-pub struct FastSum {
-    s: f64,
-    c: f64,
-    a: f64,
-    m: f64,
+pub struct FastSum<const N: usize> {
+    s: [f64; N],
+    c: [f64; N],
+    a: [f64; N],
+    m: [f64; N],
     n: u32,
 }
 
-impl Default for FastSum {
+impl<const N: usize> Default for FastSum<N> {
     #[inline]
     fn default() -> Self {
-        FastSum { s: -0.0, c: 0.0, a: 0.0, m: f64::INFINITY, n: 0 }
+        FastSum { s: [-0.0; N], c: [0.0; N], a: [0.0; N], m: [f64::INFINITY; N], n: 0 }
     }
 }
 
-impl Accumulator for FastSum {
+impl<const N: usize> Accumulator<N> for FastSum<N> {
     #[inline(always)]
-    fn add(&mut self, x: f64) {
-        let s = self.s + x;
-        let bb = s - self.s;
-        let t = (self.s - (s - bb)) + (x - bb);
-        self.s = s;
-        self.c += t;
-        let ax = x.abs();
-        self.a += ax;
-        let key = if ax != 0.0 { ax } else { f64::INFINITY };
-        if key < self.m {
-            self.m = key;
+    fn add(&mut self, x: [f64; N]) {
+        for k in 0..N {
+            let (s0, x) = (self.s[k], x[k]);
+            let s = s0 + x;
+            let bb = s - s0;
+            let t = (s0 - (s - bb)) + (x - bb);
+            self.s[k] = s;
+            self.c[k] += t;
+            let ax = x.abs();
+            self.a[k] += ax;
+            let key = if ax != 0.0 { ax } else { f64::INFINITY };
+            if key < self.m[k] {
+                self.m[k] = key;
+            }
         }
         self.n += 1;
     }
 
     #[inline]
-    fn certified(&self) -> Option<f64> {
-        if self.n == 0 {
-            return Some(0.0);
+    fn certified(&self) -> Option<[f64; N]> {
+        let mut out = [0.0; N];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = certify(self.s[k], self.c[k], self.a[k], self.m[k], self.n)?;
         }
-        let a = self.a;
-        if a == 0.0 {
-            return Some(self.s); // all terms ±0: the IEEE sum of the zeros
-        }
-        // Also rejects NaN and infinite a (non-finite terms).
-        if !(a >= pow2(-800) && a <= pow2(1000)) || self.n > 1 << 20 {
-            return None;
-        }
-        let n = self.n as f64;
-        let db = n * n * (pow2(-104) * a);
-        let r = self.s + self.c;
-        // 1. δ = 0: r is the IEEE (correctly rounded) sum of the exact value s + c.
-        if self.m >= pow2(-900) && db < self.m * pow2(-53) {
-            return Some(r);
-        }
-        // 2. T strictly inside r's rounding interval.
-        let bb = r - self.s;
-        let t2 = (self.s - (r - bb)) + (self.c - bb);
-        let bits = r.to_bits() & !SIGN_BIT;
-        if bits < pow2(-900).to_bits() {
-            return None; // zero or tiny: leave it to the exact sum
-        }
-        // U = ulp(r) = 2^(k−52) for 2^k ≤ |r| < 2^(k+1); h = U/2, or U/4 at a power of two.
-        let k = (bits >> 52) as i32 - 1023;
-        let h = if bits & FRAC_MASK == 0 { pow2(k - 54) } else { pow2(k - 53) };
-        (2.0 * db < h - t2.abs()).then_some(r)
+        Some(out)
     }
+}
+
+/// The certificate of [`FastSum`] for one lane (see there for the proof).
+#[inline]
+fn certify(s: f64, c: f64, a: f64, m: f64, n: u32) -> Option<f64> {
+    if n == 0 {
+        return Some(0.0);
+    }
+    if a == 0.0 {
+        return Some(s); // all terms ±0: the IEEE sum of the zeros
+    }
+    // Also rejects NaN and infinite a (non-finite terms).
+    if !(a >= pow2(-800) && a <= pow2(1000)) || n > 1 << 20 {
+        return None;
+    }
+    let nf = n as f64;
+    let db = nf * nf * (pow2(-104) * a);
+    let r = s + c;
+    // 1. δ = 0: r is the IEEE (correctly rounded) sum of the exact value s + c.
+    if m >= pow2(-900) && db < m * pow2(-53) {
+        return Some(r);
+    }
+    // 2. T strictly inside r's rounding interval.
+    let bb = r - s;
+    let t2 = (s - (r - bb)) + (c - bb);
+    let bits = r.to_bits() & !SIGN_BIT;
+    if bits < pow2(-900).to_bits() {
+        return None; // zero or tiny: leave it to the exact sum
+    }
+    // U = ulp(r) = 2^(k−52) for 2^k ≤ |r| < 2^(k+1); h = U/2, or U/4 at a power of two.
+    let k = (bits >> 52) as i32 - 1023;
+    let h = if bits & FRAC_MASK == 0 { pow2(k - 54) } else { pow2(k - 53) };
+    (2.0 * db < h - t2.abs()).then_some(r)
 }
 
 /// Correctly rounded sum of a slice.
@@ -400,6 +428,24 @@ pub fn sum(terms: &[f64]) -> f64 {
 
 /// Correctly rounded sum of an iterator.
 pub fn sum_iter<I: IntoIterator<Item = f64>>(terms: I) -> f64 {
+    let mut s = ExactSum::new();
+    for t in terms {
+        s.add(t);
+    }
+    s.value()
+}
+
+/// Correctly rounded sum of a cloneable iterator, the same bits as [`sum_iter`], faster:
+/// a [`FastSum`] pass, and an [`ExactSum`] pass over a second copy of the iterator only
+/// if the fast one cannot certify its result.
+pub fn sum_fast<I: Iterator<Item = f64> + Clone>(terms: I) -> f64 {
+    let mut fast = FastSum::<1>::default();
+    for t in terms.clone() {
+        fast.add([t]);
+    }
+    if let Some([v]) = fast.certified() {
+        return v;
+    }
     let mut s = ExactSum::new();
     for t in terms {
         s.add(t);
@@ -524,9 +570,7 @@ mod tests {
     /// agree in sign, the reference in value); also for the reversed order.
     fn check(terms: &[f64]) {
         let new = sum(terms);
-        let mut fast = FastSum::default();
-        terms.iter().for_each(|&t| fast.add(t));
-        if let Some(f) = fast.certified() {
+        if let Some(f) = fast1(terms) {
             assert_eq!(f.to_bits(), new.to_bits(), "certified fast sum {f:e} vs exact {new:e} for {terms:?}");
         }
         let old = shewchuk_sum(terms);
@@ -715,15 +759,18 @@ mod tests {
         check(&terms);
     }
 
+    /// The one-lane fast sum, if certified.
+    fn fast1(terms: &[f64]) -> Option<f64> {
+        let mut f = FastSum::<1>::default();
+        terms.iter().for_each(|&t| f.add([t]));
+        f.certified().map(|v| v[0])
+    }
+
     /// Fraction of sums the fast path certifies.
     fn certified_fraction(cases: &[Vec<f64>]) -> f64 {
         let ok = cases
             .iter()
-            .filter(|t| {
-                let mut f = FastSum::default();
-                t.iter().for_each(|&x| f.add(x));
-                f.certified().is_some()
-            })
+            .filter(|t| fast1(t).is_some())
             .count();
         ok as f64 / cases.len() as f64
     }
@@ -756,14 +803,10 @@ mod tests {
         }
         // Exact cancellation and exact ties of few terms are certified (δ = 0), with IEEE
         // signs; all-zero sums too.
-        let mut z = FastSum::default();
-        [1.5, -1.5, -0.0].iter().for_each(|&x| z.add(x));
-        assert_eq!(z.certified().map(f64::to_bits), Some(0));
+        assert_eq!(fast1(&[1.5, -1.5, -0.0]).map(f64::to_bits), Some(0));
         for t in [[1.0 + f64::EPSILON, 1.0], [1.0 + 3.0 * f64::EPSILON, 1.0], [-3.0, -(1.0 + f64::EPSILON)]] {
             assert_ne!((t[0] + t[1]) - t[0], t[1], "a tie: the plain sum rounds");
-            let mut z = FastSum::default();
-            t.iter().for_each(|&x| z.add(x));
-            assert_eq!(z.certified().map(f64::to_bits), Some(sum(&t).to_bits()), "{t:?}");
+            assert_eq!(fast1(&t).map(f64::to_bits), Some(sum(&t).to_bits()), "{t:?}");
         }
         // Two terms of similar size: half of their exact sums are ties; all certified.
         let pairs: Vec<Vec<f64>> = (0..10_000).map(|_| vec![random_double(&mut seed, 1020..1022), random_double(&mut seed, 1020..1022)]).collect();
@@ -774,10 +817,21 @@ mod tests {
             check(&[1.0, 2f64.powi(-53), 2f64.powi(-k)]);
             check(&[1.0, 2f64.powi(-53), -(2f64.powi(-k))]);
         }
-        let mut z = FastSum::default();
-        [-0.0, -0.0].iter().for_each(|&x| z.add(x));
-        assert_eq!(z.certified().map(f64::to_bits), Some((-0.0f64).to_bits()));
-        assert_eq!(FastSum::default().certified().map(f64::to_bits), Some(0));
+        assert_eq!(fast1(&[-0.0, -0.0]).map(f64::to_bits), Some((-0.0f64).to_bits()));
+        assert_eq!(fast1(&[]).map(f64::to_bits), Some(0));
+        // Lanes are independent.
+        let mut f = FastSum::<3>::default();
+        for t in [[1.0, -0.0, 0.1], [2f64.powi(-30), -0.0, 0.2], [-0.5, -0.0, 0.3]] {
+            f.add(t);
+        }
+        let v = f.certified().unwrap();
+        assert_eq!(v.map(f64::to_bits), [sum(&[1.0, 2f64.powi(-30), -0.5]), -0.0, sum(&[0.1, 0.2, 0.3])].map(f64::to_bits));
+        // ... and one lane that cannot be certified (cancellation to 2^-61 of the terms) fails the whole.
+        let mut f = FastSum::<2>::default();
+        for t in [[1.0, 1.0], [2f64.powi(-60), 1.0], [-1.0, 1.0]] {
+            f.add(t);
+        }
+        assert_eq!(f.certified(), None);
     }
 
     #[test]

@@ -127,7 +127,7 @@ impl Nodes {
     }
 
     /// Every (field, node) in use this step: active nodes in ascending order, fields in order.
-    pub fn present_fields(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+    pub fn present_fields(&self) -> impl Iterator<Item = (usize, usize)> + Clone + '_ {
         self.active.iter().flat_map(move |&node| {
             let i = node as usize;
             (0..self.fields.len()).filter(move |&f| self.present[i] & (1 << f) != 0).map(move |f| (f, i))

@@ -4,7 +4,7 @@
 use crate::check::CheckError;
 use crate::crack::Crack;
 use crate::dim::Vector;
-use crate::exact::{self, ExactSum};
+use crate::exact;
 use crate::grid::{Grid, Nodes};
 use crate::material::{Constitutive, LinearElastic};
 use crate::particles::{Particles, NO_LOAD};
@@ -249,24 +249,19 @@ impl Simulation {
     /// Total particle momentum, summed exactly.
     pub fn total_momentum(&self) -> Vector {
         let p = &self.particles;
-        Vector::new(
-            exact::sum_iter((0..p.len()).map(|i| p.mass[i] * p.v[i].x)),
-            exact::sum_iter((0..p.len()).map(|i| p.mass[i] * p.v[i].y)),
-        )
+        Vector::new(exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].x)), exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].y)))
     }
 
     /// Kinetic and strain energy now, with the accumulated external work and damping.
     /// Sums are exact, so the values do not depend on particle order.
     pub fn energies(&self) -> Energies {
         let p = &self.particles;
-        let mut ke = ExactSum::new();
-        let mut se = ExactSum::new();
-        for i in 0..p.len() {
-            ke.add(0.5 * p.mass[i] * p.v[i].norm_squared());
+        let kinetic = exact::sum_fast((0..p.len()).map(|i| 0.5 * p.mass[i] * p.v[i].norm_squared()));
+        let strain = exact::sum_fast((0..p.len()).map(|i| {
             let m = &self.materials[p.material[i] as usize];
-            se.add(p.vol0[i] * m.energy_density(&p.strain[i], &p.stress[i]));
-        }
-        Energies { kinetic: ke.value(), strain: se.value(), ..self.work }
+            p.vol0[i] * m.energy_density(&p.strain[i], &p.stress[i])
+        }));
+        Energies { kinetic, strain, ..self.work }
     }
 
     /// Set each particle's applied force for time t.

@@ -7,9 +7,10 @@
 
 use crate::check::{CheckError, MASS_TOL, MOMENTUM_TOL, PARTITION_TOL};
 use crate::dim::{Sym, Tensor, Vector};
-use crate::exact::{Accumulator, ExactSum, FastSum};
+use crate::exact::{Accumulator, ExactSum, ExactSums, FastSum};
 use crate::grid::{Grid, MAX_FIELDS};
 use crate::material::Constitutive;
+use crate::particles::NO_LOAD;
 use crate::shape::{self, ShapeKind, MAX_NODES};
 use crate::simulation::{Scheme, Simulation};
 use rayon::prelude::*;
@@ -150,8 +151,8 @@ impl Simulation {
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match with_cracks {
-                false => fast_or_exact(|| this.node_mass::<FastSum, false>(node), || this.node_mass::<ExactSum, false>(node)),
-                true => fast_or_exact(|| this.node_mass::<FastSum, true>(node), || this.node_mass::<ExactSum, true>(node)),
+                false => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false>(node)),
+                true => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, true>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, true>(node)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -264,8 +265,8 @@ impl Simulation {
         let mut grads = std::mem::take(&mut self.scratch.grad_v);
         let this = &*self;
         let grad_v = |i: usize| match with_cracks {
-            false => fast_or_exact(|| this.velocity_gradient::<FastSum, false>(i), || this.velocity_gradient::<ExactSum, false>(i)),
-            true => fast_or_exact(|| this.velocity_gradient::<FastSum, true>(i), || this.velocity_gradient::<ExactSum, true>(i)),
+            false => fast_or_exact(|| this.velocity_gradient::<FastSum<4>, false>(i), || this.velocity_gradient::<ExactSums<4>, false>(i)),
+            true => fast_or_exact(|| this.velocity_gradient::<FastSum<4>, true>(i), || this.velocity_gradient::<ExactSums<4>, true>(i)),
         };
         // Velocity gradients first (reading the grid), then the particle updates.
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(grad_v).collect_into_vec(&mut grads);
@@ -298,12 +299,11 @@ impl Simulation {
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match with_cracks {
-                false => fast_or_exact(|| this.node_forces::<FastSum, false>(node, has_ext), || this.node_forces::<ExactSum, false>(node, has_ext)),
-                true => fast_or_exact(|| this.node_forces::<FastSum, true>(node, has_ext), || this.node_forces::<ExactSum, true>(node, has_ext)),
+                false => fast_or_exact(|| this.node_forces::<FastSum<2>, false>(node, has_ext), || this.node_forces::<ExactSums<2>, false>(node, has_ext)),
+                true => fast_or_exact(|| this.node_forces::<FastSum<2>, true>(node, has_ext), || this.node_forces::<ExactSums<2>, true>(node, has_ext)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
-        let mut damp_power = ExactSum::new();
         for (&node, g) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
             for (f, fa) in nodes.fields.iter_mut().enumerate().take(nf) {
@@ -314,9 +314,6 @@ impl Simulation {
                 fa.fext[i] = g.fext[f];
                 let mom = fa.mom[i];
                 fa.ftot[i] = (fa.fint[i] + fa.fext[i]) - mom * kappa;
-                if kappa != 0.0 {
-                    damp_power.add(kappa * mom.norm_squared() / fa.mass[i]);
-                }
             }
         }
         self.scratch.force = sums;
@@ -332,7 +329,14 @@ impl Simulation {
                 }
             }
         }
-        self.work.damping += self.options.dt * damp_power.value();
+        // Power of the damping force κp·v = κ|p|²/m, over every field in use.
+        let damp_power = if kappa != 0.0 {
+            let n = &self.nodes;
+            crate::exact::sum_fast(n.present_fields().map(|(f, i)| kappa * n.fields[f].mom[i].norm_squared() / n.fields[f].mass[i]))
+        } else {
+            0.0
+        };
+        self.work.damping += self.options.dt * damp_power;
     }
 
     /// Task 4: p' = p + Δt f_tot (eq. 29); then contact, with forces back-computed.
@@ -394,8 +398,8 @@ impl Simulation {
         let mut incs = std::mem::take(&mut self.scratch.increments);
         let this = &*self;
         let increments = |i: usize| match with_cracks {
-            false => fast_or_exact(|| this.particle_increments::<FastSum, false>(i), || this.particle_increments::<ExactSum, false>(i)),
-            true => fast_or_exact(|| this.particle_increments::<FastSum, true>(i), || this.particle_increments::<ExactSum, true>(i)),
+            false => fast_or_exact(|| this.particle_increments::<FastSum<4>, false>(i), || this.particle_increments::<ExactSums<4>, false>(i)),
+            true => fast_or_exact(|| this.particle_increments::<FastSum<4>, true>(i), || this.particle_increments::<ExactSums<4>, true>(i)),
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
@@ -419,8 +423,8 @@ impl Simulation {
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match with_cracks {
-                false => fast_or_exact(|| this.node_momentum::<FastSum, false>(node), || this.node_momentum::<ExactSum, false>(node)),
-                true => fast_or_exact(|| this.node_momentum::<FastSum, true>(node), || this.node_momentum::<ExactSum, true>(node)),
+                false => fast_or_exact(|| this.node_momentum::<FastSum<2>, false>(node), || this.node_momentum::<ExactSums<2>, false>(node)),
+                true => fast_or_exact(|| this.node_momentum::<FastSum<2>, true>(node), || this.node_momentum::<ExactSums<2>, true>(node)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -446,10 +450,19 @@ impl Simulation {
             return 0.0;
         }
         let p = &self.particles;
-        crate::exact::sum_iter((0..p.len()).map(|i| {
+        let power = |i: usize| {
             let f = p.force[i] + self.body_force[p.body[i] as usize] * p.mass[i];
             f.dot(&p.v[i])
-        }))
+        };
+        // Only particles with a load or a body force contribute: the others' terms are
+        // ±0, which change the exact sum only in its sign when it is exactly zero, so
+        // that case is summed over all particles as before.
+        let forced = |&i: &usize| p.load[i] != NO_LOAD || (has_body && self.body_force[p.body[i] as usize] != Vector::zeros());
+        let sum = crate::exact::sum_fast((0..p.len()).filter(forced).map(power));
+        if sum != 0.0 {
+            return sum;
+        }
+        crate::exact::sum_fast((0..p.len()).map(power))
     }
 
     /// Exact total of the nodal momenta over all fields.
@@ -467,13 +480,13 @@ impl Simulation {
     /// Σ |p| over nodes: the scale against which a change of total momentum is judged.
     fn nodal_momentum_scale(&self) -> f64 {
         let n = &self.nodes;
-        crate::exact::sum_iter(n.present_fields().map(|(f, i)| n.fields[f].mom[i].abs().sum()))
+        crate::exact::sum_fast(n.present_fields().map(|(f, i)| n.fields[f].mom[i].abs().sum()))
     }
 
     /// Σ |f_int| over nodes: the scale against which Σ f_int = 0 is judged.
     fn force_scale(&self) -> f64 {
         let n = &self.nodes;
-        crate::exact::sum_iter(n.present_fields().map(|(f, i)| n.fields[f].fint[i].abs().sum()))
+        crate::exact::sum_fast(n.present_fields().map(|(f, i)| n.fields[f].fint[i].abs().sum()))
     }
 
     /// Checked mode after Task 1: positive masses where used; grid mass equals particle mass.
@@ -525,7 +538,7 @@ impl Simulation {
         if self.momentum_conserving {
             let now = self.total_momentum();
             let before = self.momentum_ref;
-            let scale = crate::exact::sum_iter((0..p.len()).map(|i| p.mass[i] * p.v[i].abs().sum()));
+            let scale = crate::exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].abs().sum()));
             let tol = MOMENTUM_TOL * scale.max(f64::MIN_POSITIVE);
             if (now - before).norm() > tol {
                 return Err(CheckError::Momentum {
@@ -549,16 +562,17 @@ impl Simulation {
 }
 
 /// The sums of the step, one node or one particle at a time, written once for any
-/// [`Accumulator`]: run with [`FastSum`], and with [`ExactSum`] when the fast sum cannot
+/// [`Accumulator`]: run with [`FastSum`], and with [`ExactSums`] when the fast sum cannot
 /// certify a result (see [`fast_or_exact`]). `CRACKS = false` compiles the crack-free
-/// variant, where every pair is in field 0 (no field look-ups, no volume sums).
+/// variant, where every pair is in field 0 (no field look-ups, no volume sums). The
+/// quantities summed together per pair are the lanes of one accumulator.
 impl Simulation {
     /// Task 1 at one node: mass and momentum per field (eq. 26), and the nodal area per
     /// unit thickness (eq. 27) for contact.
-    fn node_mass<A: Accumulator, const CRACKS: bool>(&self, node: u32) -> Option<NodeMass> {
+    fn node_mass<A3: Accumulator<3>, A1: Accumulator<1>, const CRACKS: bool>(&self, node: u32) -> Option<NodeMass> {
         let (p, pairs) = (&self.particles, &self.pairs);
-        let mut acc: [[A; 3]; MAX_FIELDS] = Default::default();
-        let mut vol = A::default();
+        let mut acc: [A3; MAX_FIELDS] = Default::default();
+        let mut vol = A1::default();
         let mut present = 0u8;
         for &item in pairs.of_node(node as usize) {
             let item = item as usize;
@@ -567,29 +581,29 @@ impl Simulation {
             let s = pairs.s[item];
             let m = p.mass[pp];
             present |= 1 << f;
-            acc[f][0].add(m * s);
-            acc[f][1].add(m * p.v[pp].x * s);
-            acc[f][2].add(m * p.v[pp].y * s);
+            acc[f].add([m * s, m * p.v[pp].x * s, m * p.v[pp].y * s]);
             if CRACKS {
                 // Nodal area (eq. 27 per unit thickness), compared with the cell area.
-                vol.add(p.volume(pp) / self.thickness[p.body[pp] as usize] * s);
+                vol.add([p.volume(pp) / self.thickness[p.body[pp] as usize] * s]);
             }
         }
         let mut out = NodeMass { present, ..Default::default() };
         for f in 0..self.nodes.fields.len() {
-            out.mass[f] = acc[f][0].certified()?;
-            out.mom[f] = Vector::new(acc[f][1].certified()?, acc[f][2].certified()?);
+            let [m, px, py] = acc[f].certified()?;
+            out.mass[f] = m;
+            out.mom[f] = Vector::new(px, py);
         }
         if CRACKS {
-            out.volume = vol.certified()?;
+            out.volume = vol.certified()?[0];
         }
         Some(out)
     }
 
     /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
-    fn node_forces<A: Accumulator, const CRACKS: bool>(&self, node: u32, has_ext: bool) -> Option<NodeForce> {
+    fn node_forces<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32, has_ext: bool) -> Option<NodeForce> {
         let (p, pairs) = (&self.particles, &self.pairs);
-        let mut acc: [[A; 4]; MAX_FIELDS] = Default::default();
+        let mut int: [A; MAX_FIELDS] = Default::default();
+        let mut ext: [A; MAX_FIELDS] = Default::default();
         for &item in pairs.of_node(node as usize) {
             let item = item as usize;
             let pp = item / MAX_NODES;
@@ -597,42 +611,39 @@ impl Simulation {
             // f_int = −V σ·G (the paper's −m σ̄·G with specific stress σ̄ = σ/ρ).
             let t = p.stress[pp].dot_vec(&pairs.g[item]);
             let v0 = p.vol0[pp];
-            acc[f][0].add(-(v0 * t.x));
-            acc[f][1].add(-(v0 * t.y));
+            int[f].add([-(v0 * t.x), -(v0 * t.y)]);
             if has_ext {
                 let s = pairs.s[item];
                 let fp = p.force[pp] + self.body_force[p.body[pp] as usize] * p.mass[pp];
-                acc[f][2].add(fp.x * s);
-                acc[f][3].add(fp.y * s);
+                ext[f].add([fp.x * s, fp.y * s]);
             }
         }
         let mut out = NodeForce::default();
         for f in 0..self.nodes.fields.len() {
             if self.nodes.present[node as usize] & (1 << f) != 0 {
-                out.fint[f] = Vector::new(acc[f][0].certified()?, acc[f][1].certified()?);
-                out.fext[f] = Vector::new(acc[f][2].certified()?, acc[f][3].certified()?);
+                out.fint[f] = Vector::from(int[f].certified()?);
+                out.fext[f] = Vector::from(ext[f].certified()?);
             }
         }
         Some(out)
     }
 
     /// Task 6c at one node: momentum per field from the new particle velocities (eq. 31).
-    fn node_momentum<A: Accumulator, const CRACKS: bool>(&self, node: u32) -> Option<[Vector; MAX_FIELDS]> {
+    fn node_momentum<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32) -> Option<[Vector; MAX_FIELDS]> {
         let (p, pairs) = (&self.particles, &self.pairs);
-        let mut acc: [[A; 2]; MAX_FIELDS] = Default::default();
+        let mut acc: [A; MAX_FIELDS] = Default::default();
         for &item in pairs.of_node(node as usize) {
             let item = item as usize;
             let pp = item / MAX_NODES;
             let f = if CRACKS { pairs.field[item] as usize } else { 0 };
             let s = pairs.s[item];
             let m = p.mass[pp];
-            acc[f][0].add(m * p.v[pp].x * s);
-            acc[f][1].add(m * p.v[pp].y * s);
+            acc[f].add([m * p.v[pp].x * s, m * p.v[pp].y * s]);
         }
         let mut out = [Vector::zeros(); MAX_FIELDS];
         for (f, mom) in out.iter_mut().enumerate().take(self.nodes.fields.len()) {
             if self.nodes.present[node as usize] & (1 << f) != 0 {
-                *mom = Vector::new(acc[f][0].certified()?, acc[f][1].certified()?);
+                *mom = Vector::from(acc[f].certified()?);
             }
         }
         Some(out)
@@ -640,37 +651,33 @@ impl Simulation {
 
     /// Velocity gradient at particle `i` (eq. 36): Σ v_i ⊗ G_ip over its pairs, each in
     /// the pair's own velocity field.
-    fn velocity_gradient<A: Accumulator, const CRACKS: bool>(&self, i: usize) -> Option<Tensor> {
+    fn velocity_gradient<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<Tensor> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
-        let mut l: [A; 4] = Default::default();
+        let mut l = A::default();
         for k in pairs.of_particle(i) {
             let f = if CRACKS { pairs.field[k] as usize } else { 0 };
             let v = nodes.fields[f].vel[pairs.node[k] as usize];
             let g = pairs.g[k];
-            l[0].add(v.x * g.x);
-            l[1].add(v.x * g.y);
-            l[2].add(v.y * g.x);
-            l[3].add(v.y * g.y);
+            l.add([v.x * g.x, v.x * g.y, v.y * g.x, v.y * g.y]);
         }
-        Some(Tensor::new(l[0].certified()?, l[1].certified()?, l[2].certified()?, l[3].certified()?))
+        let [xx, xy, yx, yy] = l.certified()?;
+        Some(Tensor::new(xx, xy, yx, yy))
     }
 
     /// Task 5 at particle `i` (eq. 30): (Σ S v_i, Σ S a_i) over its pairs, the velocity
     /// that moves the particle and the acceleration that updates its velocity.
-    fn particle_increments<A: Accumulator, const CRACKS: bool>(&self, i: usize) -> Option<(Vector, Vector)> {
+    fn particle_increments<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<(Vector, Vector)> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
-        let mut s: [A; 4] = Default::default();
+        let mut s = A::default();
         for k in pairs.of_particle(i) {
             let f = if CRACKS { pairs.field[k] as usize } else { 0 };
             let fa = &nodes.fields[f];
             let n = pairs.node[k] as usize;
             let w = pairs.s[k];
-            s[0].add(w * fa.vel[n].x);
-            s[1].add(w * fa.vel[n].y);
-            s[2].add(w * fa.acc[n].x);
-            s[3].add(w * fa.acc[n].y);
+            s.add([w * fa.vel[n].x, w * fa.vel[n].y, w * fa.acc[n].x, w * fa.acc[n].y]);
         }
-        Some((Vector::new(s[0].certified()?, s[1].certified()?), Vector::new(s[2].certified()?, s[3].certified()?)))
+        let [vx, vy, ax, ay] = s.certified()?;
+        Some((Vector::new(vx, vy), Vector::new(ax, ay)))
     }
 }
 
@@ -732,4 +739,38 @@ pub struct Scratch {
     pub momentum: Vec<[Vector; MAX_FIELDS]>,
     pub grad_v: Vec<Tensor>,
     pub increments: Vec<(Vector, Vector)>,
+}
+
+/// Single stages of the step, for `benches/step.rs` (not a stable API: the state after
+/// calling them alone is not that of a real step).
+#[doc(hidden)]
+impl Simulation {
+    /// Particle to grid: Task 0 (shape functions) and Task 1 (crack fields, CSR, gathers).
+    pub fn bench_particle_to_grid(&mut self) -> Result<(), CheckError> {
+        self.task0_shape_functions()?;
+        self.task1_extrapolate()
+    }
+
+    /// Grid update: Tasks 2–4 (boundary conditions and contact, forces, momenta).
+    pub fn bench_grid_update(&mut self) -> Result<(), CheckError> {
+        self.task2_boundary_conditions();
+        self.task3_forces();
+        self.task4_update_momenta()
+    }
+
+    /// Grid to particle: Task 5 (particle update) and the stress update.
+    pub fn bench_grid_to_particle(&mut self) {
+        self.task5_update_particles();
+        self.update_stresses(0.5 * self.options.dt);
+    }
+
+    /// The line-crossing field assignment of Task 1 alone (cracks only).
+    pub fn bench_crack_fields(&mut self) -> Result<(), CheckError> {
+        self.assign_velocity_fields()
+    }
+
+    /// One contact pass over the nodes with two fields (cracks only).
+    pub fn bench_contact(&mut self) {
+        self.apply_contact_to_momenta();
+    }
 }

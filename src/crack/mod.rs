@@ -76,9 +76,19 @@ impl Simulation {
         let pairs = &mut self.pairs;
         let node_crack = &mut self.nodes.crack;
         node_crack.fill(u16::MAX);
+        // A particle's nodes lie within h + l_p of it per axis (closer, in fact, in exact
+        // arithmetic; twice that covers any rounding of the node coordinates).
+        let reach = (grid.h + p.lp.iter().fold(Vector::zeros(), |a, l| a.sup(l))) * 2.0;
         for i in 0..p.len() {
             let base = i * MAX_NODES;
             let xp = p.x[i];
+            // Screening by crack extent, per particle: if the box around the particle that
+            // holds all its nodes misses every crack's bounding box, so does every
+            // particle–node rectangle of Subtask 1, and all its pairs are in field 0.
+            if self.cracks.iter().all(|c| !near_extent(&c.extent, xp, reach)) {
+                pairs.field[base..base + pairs.count[i] as usize].fill(0);
+                continue;
+            }
             for k in base..base + pairs.count[i] as usize {
                 let node = pairs.node[k] as usize;
                 let xn = grid.node_pos(node);
@@ -205,6 +215,12 @@ impl Simulation {
         }
         Ok(())
     }
+}
+
+/// Does the closed box `x ± reach` meet the closed extent?
+#[inline]
+fn near_extent(e: &Extent, x: Vector, reach: Vector) -> bool {
+    x.x + reach.x >= e.min.x && x.x - reach.x <= e.max.x && x.y + reach.y >= e.min.y && x.y - reach.y <= e.max.y
 }
 
 /// +1 if `x` is left of (above) the nearest segment whose interior it projects onto
