@@ -299,8 +299,8 @@ impl<const N: usize> Accumulator<N> for ExactSums<N> {
 ///
 /// Per term, Knuth's TwoSum (error-free: s + x = s' + t exactly, for all finite inputs
 /// barring overflow, subnormals included) updates the running sum s and its error t; the
-/// errors are summed in plain floating point into c, Σ|x| into a, and the smallest
-/// non-zero |x| is kept in m: a dozen flops, no branches. Then the exact sum is
+/// errors are summed in plain floating point into c, Σ|x| into a, and the smallest |x|
+/// is kept in m: a dozen flops, no branches. Then the exact sum is
 /// T = s + Σt_i, and (Higham, Accuracy and Stability, §4.2 and §4.3, γ_k = ku/(1−ku),
 /// u = 2^−53):
 ///
@@ -317,6 +317,7 @@ impl<const N: usize> Accumulator<N> for ExactSums<N> {
 ///    q = the smallest ulp among the terms (a rounded sum of multiples of a power of two
 ///    q is again one), so T − (s + c) is a multiple of q. With all terms normal, the
 ///    smallest term's ulp exceeds m·2^−53, and ulps grow with magnitude, so q > m·2^−53.
+///    (A zero term gives m = 0 and this certificate is not used.)
 ///    If db < m·2^−53 (exact, m ≥ 2^−900), then |T − (s + c)| < q forces T = s + c, and
 ///    r = fl(s + c) is the correctly rounded T by IEEE addition itself — ties to even
 ///    included, and an exact zero comes out +0 as it must with non-zero terms (c is never
@@ -366,9 +367,9 @@ impl<const N: usize> Accumulator<N> for FastSum<N> {
             self.c[k] += t;
             let ax = x.abs();
             self.a[k] += ax;
-            let key = if ax != 0.0 { ax } else { f64::INFINITY };
-            if key < self.m[k] {
-                self.m[k] = key;
+            // A zero term makes m = 0, which only disables certificate 1 (one minpd).
+            if ax < self.m[k] {
+                self.m[k] = ax;
             }
         }
         self.n += 1;
@@ -803,7 +804,8 @@ mod tests {
         }
         // Exact cancellation and exact ties of few terms are certified (δ = 0), with IEEE
         // signs; all-zero sums too.
-        assert_eq!(fast1(&[1.5, -1.5, -0.0]).map(f64::to_bits), Some(0));
+        assert_eq!(fast1(&[1.5, -1.5]).map(f64::to_bits), Some(0));
+        assert_eq!(fast1(&[1.5, -1.5, -0.0]), None); // a zero term disables certificate 1
         for t in [[1.0 + f64::EPSILON, 1.0], [1.0 + 3.0 * f64::EPSILON, 1.0], [-3.0, -(1.0 + f64::EPSILON)]] {
             assert_ne!((t[0] + t[1]) - t[0], t[1], "a tie: the plain sum rounds");
             assert_eq!(fast1(&t).map(f64::to_bits), Some(sum(&t).to_bits()), "{t:?}");

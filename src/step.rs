@@ -144,6 +144,16 @@ impl Simulation {
 
         let with_cracks = self.has_cracks();
         let nf = self.nodes.fields.len();
+        if with_cracks {
+            // Current area of each particle (eq. 25 per unit thickness), once per particle
+            // rather than once per pair.
+            let (p, thickness) = (&self.particles, &self.thickness);
+            (0..p.len())
+                .into_par_iter()
+                .with_min_len(PARTICLE_CHUNK)
+                .map(|i| p.volume(i) / thickness[p.body[i] as usize])
+                .collect_into_vec(&mut self.scratch.area);
+        }
         let mut sums = std::mem::take(&mut self.scratch.mass);
         let this = &*self;
         this.nodes
@@ -291,7 +301,8 @@ impl Simulation {
         let kappa = self.options.damping;
         let nf = self.nodes.fields.len();
         let with_cracks = self.has_cracks();
-        let has_ext = !self.loads.is_empty() || self.body_force.iter().any(|b| *b != Vector::zeros());
+        let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
+        let has_ext = !self.loads.is_empty() || has_body;
         let mut sums = std::mem::take(&mut self.scratch.force);
         let this = &*self;
         this.nodes
@@ -299,8 +310,8 @@ impl Simulation {
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match with_cracks {
-                false => fast_or_exact(|| this.node_forces::<FastSum<2>, false>(node, has_ext), || this.node_forces::<ExactSums<2>, false>(node, has_ext)),
-                true => fast_or_exact(|| this.node_forces::<FastSum<2>, true>(node, has_ext), || this.node_forces::<ExactSums<2>, true>(node, has_ext)),
+                false => fast_or_exact(|| this.node_forces::<FastSum<2>, false>(node, has_ext, has_body), || this.node_forces::<ExactSums<2>, false>(node, has_ext, has_body)),
+                true => fast_or_exact(|| this.node_forces::<FastSum<2>, true>(node, has_ext, has_body), || this.node_forces::<ExactSums<2>, true>(node, has_ext, has_body)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -584,7 +595,7 @@ impl Simulation {
             acc[f].add([m * s, m * p.v[pp].x * s, m * p.v[pp].y * s]);
             if CRACKS {
                 // Nodal area (eq. 27 per unit thickness), compared with the cell area.
-                vol.add([p.volume(pp) / self.thickness[p.body[pp] as usize] * s]);
+                vol.add([self.scratch.area[pp] * s]);
             }
         }
         let mut out = NodeMass { present, ..Default::default() };
@@ -600,10 +611,11 @@ impl Simulation {
     }
 
     /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
-    fn node_forces<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32, has_ext: bool) -> Option<NodeForce> {
+    fn node_forces<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce> {
         let (p, pairs) = (&self.particles, &self.pairs);
         let mut int: [A; MAX_FIELDS] = Default::default();
         let mut ext: [A; MAX_FIELDS] = Default::default();
+        let mut skipped_zeros = [false; MAX_FIELDS];
         for &item in pairs.of_node(node as usize) {
             let item = item as usize;
             let pp = item / MAX_NODES;
@@ -613,9 +625,16 @@ impl Simulation {
             let v0 = p.vol0[pp];
             int[f].add([-(v0 * t.x), -(v0 * t.y)]);
             if has_ext {
-                let s = pairs.s[item];
-                let fp = p.force[pp] + self.body_force[p.body[pp] as usize] * p.mass[pp];
-                ext[f].add([fp.x * s, fp.y * s]);
+                let force = p.force[pp];
+                if !has_body && force.x.to_bits() == 0 && force.y.to_bits() == 0 && p.mass[pp].is_finite() {
+                    // An unloaded particle: f_p = +0 + (±0)·m = (+0, +0) exactly, and its
+                    // terms +0·S = +0 only decide the sign of an all-zero sum (below).
+                    skipped_zeros[f] = true;
+                } else {
+                    let s = pairs.s[item];
+                    let fp = force + self.body_force[p.body[pp] as usize] * p.mass[pp];
+                    ext[f].add([fp.x * s, fp.y * s]);
+                }
             }
         }
         let mut out = NodeForce::default();
@@ -623,6 +642,10 @@ impl Simulation {
             if self.nodes.present[node as usize] & (1 << f) != 0 {
                 out.fint[f] = Vector::from(int[f].certified()?);
                 out.fext[f] = Vector::from(ext[f].certified()?);
+                if skipped_zeros[f] {
+                    // With the +0 terms added, a −0 sum would have been +0 (x + 0 = x otherwise).
+                    out.fext[f] = out.fext[f].map(|x| x + 0.0);
+                }
             }
         }
         Some(out)
@@ -739,6 +762,8 @@ pub struct Scratch {
     pub momentum: Vec<[Vector; MAX_FIELDS]>,
     pub grad_v: Vec<Tensor>,
     pub increments: Vec<(Vector, Vector)>,
+    /// Current particle areas (volume per unit thickness), with cracks.
+    pub area: Vec<f64>,
 }
 
 /// Single stages of the step, for `benches/step.rs` (not a stable API: the state after
