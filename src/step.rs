@@ -677,10 +677,10 @@ impl Simulation {
     fn velocity_gradient<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<Tensor> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
         let mut l = A::default();
-        for k in pairs.of_particle(i) {
-            let f = if CRACKS { pairs.field[k] as usize } else { 0 };
-            let v = nodes.fields[f].vel[pairs.node[k] as usize];
-            let g = pairs.g[k];
+        let k = pairs.of_particle(i);
+        for ((&f, &node), g) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.g[k]) {
+            let f = if CRACKS { f as usize } else { 0 };
+            let v = nodes.fields[f].vel[node as usize];
             l.add([v.x * g.x, v.x * g.y, v.y * g.x, v.y * g.y]);
         }
         let [xx, xy, yx, yy] = l.certified()?;
@@ -692,11 +692,10 @@ impl Simulation {
     fn particle_increments<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<(Vector, Vector)> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
         let mut s = A::default();
-        for k in pairs.of_particle(i) {
-            let f = if CRACKS { pairs.field[k] as usize } else { 0 };
-            let fa = &nodes.fields[f];
-            let n = pairs.node[k] as usize;
-            let w = pairs.s[k];
+        let k = pairs.of_particle(i);
+        for ((&f, &n), &w) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.s[k]) {
+            let fa = &nodes.fields[if CRACKS { f as usize } else { 0 }];
+            let n = n as usize;
             s.add([w * fa.vel[n].x, w * fa.vel[n].y, w * fa.acc[n].x, w * fa.acc[n].y]);
         }
         let [vx, vy, ax, ay] = s.certified()?;
