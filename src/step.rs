@@ -160,9 +160,10 @@ impl Simulation {
             .active
             .par_iter()
             .with_min_len(NODE_CHUNK)
-            .map(|&node| match with_cracks {
-                false => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false>(node)),
-                true => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, true>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, true>(node)),
+            .map(|&node| match (with_cracks, this.is_split(node)) {
+                (false, _) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
+                (true, false) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, true>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, true>(node)),
+                (true, true) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, true, true>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, true, true>(node)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -300,7 +301,6 @@ impl Simulation {
     fn task3_forces(&mut self) {
         let kappa = self.options.damping;
         let nf = self.nodes.fields.len();
-        let with_cracks = self.has_cracks();
         let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
         let has_ext = !self.loads.is_empty() || has_body;
         let mut sums = std::mem::take(&mut self.scratch.force);
@@ -309,7 +309,7 @@ impl Simulation {
             .active
             .par_iter()
             .with_min_len(NODE_CHUNK)
-            .map(|&node| match with_cracks {
+            .map(|&node| match this.is_split(node) {
                 false => fast_or_exact(|| this.node_forces::<FastSum<2>, false>(node, has_ext, has_body), || this.node_forces::<ExactSums<2>, false>(node, has_ext, has_body)),
                 true => fast_or_exact(|| this.node_forces::<FastSum<2>, true>(node, has_ext, has_body), || this.node_forces::<ExactSums<2>, true>(node, has_ext, has_body)),
             })
@@ -426,14 +426,13 @@ impl Simulation {
     /// gathers run in parallel over the active nodes.
     fn task6c_reextrapolate(&mut self) {
         let nf = self.nodes.fields.len();
-        let with_cracks = self.has_cracks();
         let mut sums = std::mem::take(&mut self.scratch.momentum);
         let this = &*self;
         this.nodes
             .active
             .par_iter()
             .with_min_len(NODE_CHUNK)
-            .map(|&node| match with_cracks {
+            .map(|&node| match this.is_split(node) {
                 false => fast_or_exact(|| this.node_momentum::<FastSum<2>, false>(node), || this.node_momentum::<ExactSums<2>, false>(node)),
                 true => fast_or_exact(|| this.node_momentum::<FastSum<2>, true>(node), || this.node_momentum::<ExactSums<2>, true>(node)),
             })
@@ -575,12 +574,24 @@ impl Simulation {
 /// The sums of the step, one node or one particle at a time, written once for any
 /// [`Accumulator`]: run with [`FastSum`], and with [`ExactSums`] when the fast sum cannot
 /// certify a result (see [`fast_or_exact`]). `CRACKS = false` compiles the crack-free
-/// variant, where every pair is in field 0 (no field look-ups, no volume sums). The
-/// quantities summed together per pair are the lanes of one accumulator.
+/// variant, where every pair is in field 0 (no field look-ups, no volume sums); it also
+/// serves the nodes that no crack splits in a cracked scene. The quantities summed
+/// together per pair are the lanes of one accumulator.
 impl Simulation {
+    /// May the pairs of `node` be in fields other than 0? Only if the scene has cracks and
+    /// the line-crossing test of Task 1 found a crack between the node and one of its
+    /// particles (which records the crack in `nodes.crack`); otherwise all are in field 0.
+    #[inline]
+    fn is_split(&self, node: u32) -> bool {
+        self.has_cracks() && self.nodes.crack[node as usize] != u16::MAX
+    }
+
     /// Task 1 at one node: mass and momentum per field (eq. 26), and the nodal area per
     /// unit thickness (eq. 27) for contact.
-    fn node_mass<A3: Accumulator<3>, A1: Accumulator<1>, const CRACKS: bool>(&self, node: u32) -> Option<NodeMass> {
+    ///
+    /// `FIELDS = false` for a node no crack splits (every pair in field 0), `VOLUME` when
+    /// the scene has cracks (the nodal volume is summed at every node).
+    fn node_mass<A3: Accumulator<3>, A1: Accumulator<1>, const FIELDS: bool, const VOLUME: bool>(&self, node: u32) -> Option<NodeMass> {
         let (p, pairs) = (&self.particles, &self.pairs);
         let mut acc: [A3; MAX_FIELDS] = Default::default();
         let mut vol = A1::default();
@@ -588,12 +599,12 @@ impl Simulation {
         for &item in pairs.of_node(node as usize) {
             let item = item as usize;
             let pp = item / MAX_NODES;
-            let f = if CRACKS { pairs.field[item] as usize } else { 0 };
+            let f = if FIELDS { pairs.field[item] as usize } else { 0 };
             let s = pairs.s[item];
             let m = p.mass[pp];
             present |= 1 << f;
             acc[f].add([m * s, m * p.v[pp].x * s, m * p.v[pp].y * s]);
-            if CRACKS {
+            if VOLUME {
                 // Nodal area (eq. 27 per unit thickness), compared with the cell area.
                 vol.add([self.scratch.area[pp] * s]);
             }
@@ -604,7 +615,7 @@ impl Simulation {
             out.mass[f] = m;
             out.mom[f] = Vector::new(px, py);
         }
-        if CRACKS {
+        if VOLUME {
             out.volume = vol.certified()?[0];
         }
         Some(out)

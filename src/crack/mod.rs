@@ -70,15 +70,19 @@ impl Simulation {
     /// Task 1 with cracks: ν(p,i) for every pair by the line-crossing algorithm, and the
     /// crack that split each node. A node split by two different cracks, or needing
     /// fields 0, 1 and 2 at once, stops the run: CRAMP allows two fields per node.
+    ///
+    /// The gathers rely on this: a pair gets a field other than 0 only at a node whose
+    /// crack is recorded in `nodes.crack` (see `step::is_split`).
     pub(crate) fn assign_velocity_fields(&mut self) -> Result<(), CheckError> {
         let grid = &self.grid;
         let p = &self.particles;
         let pairs = &mut self.pairs;
         let node_crack = &mut self.nodes.crack;
         node_crack.fill(u16::MAX);
-        // A particle's nodes lie within h + l_p of it per axis (closer, in fact, in exact
-        // arithmetic; twice that covers any rounding of the node coordinates).
-        let reach = (grid.h + p.lp.iter().fold(Vector::zeros(), |a, l| a.sup(l))) * 2.0;
+        // A particle's nodes lie within h + l_p of it per axis: a node has a weight only if
+        // the rounded distance fl(x_p − x_n) is below h + l_p, and the rounding is at most
+        // a relative 2^−53; the factor 1 + 10⁻⁹ covers it (and the rounding of the bound).
+        let reach = (grid.h + p.lp.iter().fold(Vector::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
         for i in 0..p.len() {
             let base = i * MAX_NODES;
             let xp = p.x[i];
