@@ -14,6 +14,7 @@ use crate::particles::NO_LOAD;
 use crate::shape::{self, ShapeKind, MAX_NODES};
 use crate::simulation::{Scheme, Simulation};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 impl Simulation {
     /// Advance one time step (Tasks 0–8).
@@ -23,6 +24,7 @@ impl Simulation {
         // Steps are numbered from 1; every check inside this step reports this number.
         self.step_count += 1;
         self.apply_loads(self.time);
+        self.collect_forced_particles();
         if self.options.checked && self.momentum_conserving {
             self.momentum_ref = self.total_momentum();
         }
@@ -190,40 +192,67 @@ impl Simulation {
 
     /// Build the node → pair incidence (CSR) by a counting sort over the pairs, and the
     /// list of active nodes. Only nodes that some particle touches are visited afterwards.
+    ///
+    /// In parallel, with the serial result: the particles are split into contiguous
+    /// chunks (one per thread) that count their pairs per node; a serial prefix sum over
+    /// the nodes gives every (node, chunk) its own slots, chunk after chunk, so a node's
+    /// pairs stay in particle order; then each chunk writes its pairs into its slots
+    /// (through atomic cells, as the slots of different chunks interleave) and the slots
+    /// are copied into `items`.
     fn build_node_incidence(&mut self) {
         let np = self.particles.len();
         let nn = self.grid.num_nodes();
-        let pairs = &mut self.pairs;
         // Last step's present bits are stale only on last step's active nodes.
         for &i in &self.nodes.active {
             self.nodes.present[i as usize] = 0;
         }
-        // Count pairs per node (start[i+1]), list the active nodes, prefix-sum into offsets.
-        pairs.start.fill(0);
-        for i in 0..np {
-            let base = i * MAX_NODES;
-            for k in 0..pairs.count[i] as usize {
-                pairs.start[pairs.node[base + k] as usize + 1] += 1;
+        let chunks = rayon::current_num_threads().clamp(1, np.div_ceil(4096).max(1));
+        let per_chunk = np.div_ceil(chunks).max(1);
+        let pairs = &mut self.pairs;
+        let scratch = &mut self.scratch;
+        scratch.chunk_counts.resize_with(chunks, Vec::new);
+        let (count, node) = (&pairs.count, &pairs.node);
+        let chunk_pairs = |c: usize| {
+            (c * per_chunk..((c + 1) * per_chunk).min(np)).flat_map(move |i| (i * MAX_NODES..i * MAX_NODES + count[i] as usize).map(move |k| (k, node[k] as usize)))
+        };
+        // Pairs per node, per chunk.
+        scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, counts)| {
+            counts.clear();
+            counts.resize(nn, 0);
+            for (_, n) in chunk_pairs(c) {
+                counts[n] += 1;
             }
-        }
+        });
+        // Offsets: node i's pairs are items[start[i]..start[i+1]], chunk by chunk; the
+        // counts become each chunk's write cursors.
         self.nodes.active.clear();
+        pairs.start[0] = 0;
+        let mut total = 0u32;
         for i in 0..nn {
-            if pairs.start[i + 1] > 0 {
+            let begin = total;
+            for counts in scratch.chunk_counts.iter_mut() {
+                let n = counts[i];
+                counts[i] = total;
+                total += n;
+            }
+            pairs.start[i + 1] = total;
+            if total > begin {
                 self.nodes.active.push(i as u32);
             }
-            pairs.start[i + 1] += pairs.start[i];
         }
-        pairs.items.resize(pairs.start[nn] as usize, 0);
-        pairs.fill.clear();
-        pairs.fill.extend_from_slice(&pairs.start[..nn]);
-        for i in 0..np {
-            let base = i * MAX_NODES;
-            for k in 0..pairs.count[i] as usize {
-                let node = pairs.node[base + k] as usize;
-                pairs.items[pairs.fill[node] as usize] = (base + k) as u32;
-                pairs.fill[node] += 1;
+        let total = total as usize;
+        if scratch.slots.len() < total {
+            scratch.slots.resize_with(total, || AtomicU32::new(0));
+        }
+        let slots = &scratch.slots;
+        scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, cursor)| {
+            for (k, n) in chunk_pairs(c) {
+                slots[cursor[n] as usize].store(k as u32, Ordering::Relaxed);
+                cursor[n] += 1;
             }
-        }
+        });
+        pairs.items.resize(total, 0);
+        pairs.items.par_iter_mut().zip(&slots[..total]).with_min_len(4096).for_each(|(item, slot)| *item = slot.load(Ordering::Relaxed));
     }
 
     /// Task 2: boundary conditions on the nodal momenta of Task 1 (and, with cracks, contact).
@@ -453,6 +482,17 @@ impl Simulation {
         }
     }
 
+    /// List the particles with a load or a body force (for [`Self::external_power`]).
+    fn collect_forced_particles(&mut self) {
+        let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
+        let (p, body_force, forced) = (&self.particles, &self.body_force, &mut self.scratch.forced);
+        forced.clear();
+        if self.loads.is_empty() && !has_body {
+            return;
+        }
+        forced.extend((0..p.len()).filter(|&i| p.load[i] != NO_LOAD || (has_body && body_force[p.body[i] as usize] != Vector::zeros())).map(|i| i as u32));
+    }
+
     /// Σ (f_p + m_p b)·v_p over the particles: the power of the external loads.
     fn external_power(&self) -> f64 {
         let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
@@ -467,8 +507,7 @@ impl Simulation {
         // Only particles with a load or a body force contribute: the others' terms are
         // ±0, which change the exact sum only in its sign when it is exactly zero, so
         // that case is summed over all particles as before.
-        let forced = |&i: &usize| p.load[i] != NO_LOAD || (has_body && self.body_force[p.body[i] as usize] != Vector::zeros());
-        let sum = crate::exact::sum_fast((0..p.len()).filter(forced).map(power));
+        let sum = crate::exact::sum_fast(self.scratch.forced.iter().map(|&i| power(i as usize)));
         if sum != 0.0 {
             return sum;
         }
@@ -765,7 +804,7 @@ pub struct NodeForce {
 
 /// Per-step buffers of the parallel gathers (one entry per active node), kept across
 /// steps so the time step does not allocate.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct Scratch {
     pub mass: Vec<NodeMass>,
     pub force: Vec<NodeForce>,
@@ -774,6 +813,20 @@ pub struct Scratch {
     pub increments: Vec<(Vector, Vector)>,
     /// Current particle areas (volume per unit thickness), with cracks.
     pub area: Vec<f64>,
+    /// CSR build: pairs per node of each particle chunk, then the chunks' write cursors.
+    pub chunk_counts: Vec<Vec<u32>>,
+    /// CSR build: the pair slots, written by the chunks in parallel.
+    pub slots: Vec<AtomicU32>,
+    /// Particles with a load or a body force this step, ascending.
+    pub forced: Vec<u32>,
+}
+
+/// Every buffer is refilled before it is read within a step, so a copy of a simulation
+/// starts with empty ones (and the atomics need no copying).
+impl Clone for Scratch {
+    fn clone(&self) -> Self {
+        Scratch::default()
+    }
 }
 
 /// Single stages of the step, for `benches/step.rs` (not a stable API: the state after
