@@ -164,7 +164,7 @@ impl Simulation {
             .with_min_len(NODE_CHUNK)
             .map(|&node| match (with_cracks, this.is_split(node)) {
                 (false, _) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
-                (true, false) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, true>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, true>(node)),
+                (true, false) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
                 (true, true) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, true, true>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, true, true>(node)),
             })
             .collect_into_vec(&mut sums);
@@ -628,8 +628,9 @@ impl Simulation {
     /// Task 1 at one node: mass and momentum per field (eq. 26), and the nodal area per
     /// unit thickness (eq. 27) for contact.
     ///
-    /// `FIELDS = false` for a node no crack splits (every pair in field 0), `VOLUME` when
-    /// the scene has cracks (the nodal volume is summed at every node).
+    /// `FIELDS = false` for a node no crack splits (every pair in field 0); `VOLUME` at the
+    /// nodes a crack splits, the only ones where contact reads the nodal volume (NaN
+    /// elsewhere: not computed).
     fn node_mass<A3: Accumulator<3>, A1: Accumulator<1>, const FIELDS: bool, const VOLUME: bool>(&self, node: u32) -> Option<NodeMass> {
         let (p, pairs) = (&self.particles, &self.pairs);
         let mut acc: [A3; MAX_FIELDS] = Default::default();
@@ -649,14 +650,12 @@ impl Simulation {
             }
         }
         let mut out = NodeMass { present, ..Default::default() };
-        for f in 0..self.nodes.fields.len() {
-            let [m, px, py] = acc[f].certified()?;
+        for (f, a) in acc.iter().enumerate().take(self.nodes.fields.len()) {
+            let [m, px, py] = a.certified()?;
             out.mass[f] = m;
             out.mom[f] = Vector::new(px, py);
         }
-        if VOLUME {
-            out.volume = vol.certified()?[0];
-        }
+        out.volume = if VOLUME { vol.certified()?[0] } else { f64::NAN };
         Some(out)
     }
 
