@@ -38,6 +38,8 @@ pub enum CheckError {
     CrackCrossing { step: u64, particle: usize, id: u32, crack: usize, before: i8, after: i8 },
     #[error("step {step}: node {node} needs more than two velocity fields (cracks {cracks:?}); CRAMP allows at most two")]
     TooManyFields { step: u64, node: usize, cracks: Vec<usize> },
+    #[error("step {step}: particle {particle} (id {id}) sees no grid node that a crack does not hide (node visibility); it lies on a crack")]
+    NoVisibleNode { step: u64, particle: usize, id: u32 },
     #[error("step {step}: contact at node {node} changed total momentum from ({bx:.17e}, {by:.17e}) to ({ax:.17e}, {ay:.17e})")]
     ContactMomentum { step: u64, node: usize, bx: f64, by: f64, ax: f64, ay: f64 },
     #[error("step {step}: energy grew without bound (total {total:.6e} vs initial scale {scale:.6e}): the time step is probably above the stability limit; reduce `solver.cfl` or `solver.dt`")]

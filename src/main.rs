@@ -31,12 +31,22 @@ enum Command {
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
         threads: Option<u32>,
     },
+    /// Solve a scene statically with the Q4 FEA: fea.vtk, fea_gauss.vtk, fea_nodes.csv,
+    /// probe CSVs and fea_summary.json (J, K per crack tip) in --out.
+    Fea {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Output directory (default: out/<scene name>-fea).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Run { scene, out, unchecked, threads }) => set_threads(threads).and_then(|()| run(scene, out, unchecked)),
+        Some(Command::Fea { scene, out }) => fea(scene, out),
         None => run_default(),
     };
     match result {
@@ -61,6 +71,14 @@ fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool) -> anyhow::Re
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(stem));
     execute(&scene, out, unchecked)
+}
+
+fn fea(scene_path: PathBuf, out: Option<PathBuf>) -> anyhow::Result<()> {
+    let scene = Scene::from_file(&scene_path)?;
+    let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-fea")));
+    print!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text());
+    Ok(())
 }
 
 fn run_default() -> anyhow::Result<()> {

@@ -7,7 +7,8 @@
 //! path; [`Scene::build`] turns a valid scene into a [`Simulation`]. See
 //! `docs/scene.md` for every field.
 
-use crate::crack::{ContactLaw, Crack};
+use crate::crack::{ContactLaw, Crack, CrackMethod};
+use crate::fracture::jintegral::{JRequest, TipEnd};
 use crate::dim::Vector;
 use crate::grid::Grid;
 use crate::material::{LinearElastic, PlaneState};
@@ -50,6 +51,9 @@ pub struct Scene {
     pub loads: Vec<LoadSpec>,
     #[serde(default)]
     pub cracks: Vec<CrackSpec>,
+    /// Line probes: stresses sampled along segments (written by `cramp fea`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<ProbeSpec>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -87,6 +91,10 @@ pub struct SolverSpec {
     /// Invariant checks every step (default true).
     #[serde(default = "default_true")]
     pub checked: bool,
+    /// How cracks act: "velocity_fields" (CRAMP, default) or "visibility" (node
+    /// visibility, the alternative Nairn 2003 §3.1 compares with).
+    #[serde(default)]
+    pub crack_method: CrackMethod,
 }
 
 fn default_scheme() -> Scheme {
@@ -223,6 +231,50 @@ pub struct CrackSpec {
     /// Relative volume above which faces are in contact (default 1.1).
     #[serde(default = "default_vcontact")]
     pub v_contact: f64,
+    /// J-integral and stress intensity factors at this crack's tips (Guo & Nairn 2004 §3),
+    /// written to cracks.csv at the history interval. Omitted: not computed.
+    #[serde(default)]
+    pub fracture: Option<FractureSpec>,
+}
+
+/// Which crack ends are tips, and how J is evaluated there.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FractureSpec {
+    /// "start" (first point), "end" (last point) or "both".
+    pub tips: TipsSpec,
+    /// Half-size n of the n×n-cell rectangular J contour (default 2).
+    #[serde(default = "default_contour")]
+    pub contour: usize,
+    /// Add the area term of eq. 8 (two-term, path-independent J; default false).
+    #[serde(default)]
+    pub area_term: bool,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum TipsSpec {
+    Start,
+    End,
+    Both,
+}
+
+fn default_contour() -> usize {
+    2
+}
+
+/// A line probe: `points` equally spaced samples from `from` to `to` (both included).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec {
+    /// Name, used in the file name `probe_<name>.csv`: letters, digits, `_` and `-`.
+    pub name: String,
+    /// Start point.
+    pub from: [f64; 2],
+    /// End point.
+    pub to: [f64; 2],
+    /// Number of sample points, both ends included (2 to 100000).
+    pub points: usize,
 }
 
 fn default_contact() -> ContactSpec {
@@ -267,14 +319,14 @@ impl ShapeSpec {
 impl Selection {
     /// Matching tolerance for a grid of cell size h: round-off for regions, a quarter
     /// cell for lines (so a line drawn along a row of nodes or particles selects it).
-    fn tolerance(&self, h: f64) -> f64 {
+    pub(crate) fn tolerance(&self, h: f64) -> f64 {
         match self {
             Selection::Region { .. } => 1e-9 * h,
             Selection::Line { .. } => 0.25 * h,
         }
     }
 
-    fn contains(&self, x: &Vector, tol: f64) -> bool {
+    pub(crate) fn contains(&self, x: &Vector, tol: f64) -> bool {
         match self {
             Selection::Region { min, max } => {
                 x.x >= min[0] - tol && x.x <= max[0] + tol && x.y >= min[1] - tol && x.y <= max[1] + tol
@@ -418,10 +470,46 @@ impl Scene {
             if !(c.v_sep > 0.0 && c.v_sep < c.v_contact) {
                 return Err(invalid(format!("cracks[{i}].v_sep"), format!("need 0 < v_sep < v_contact, got v_sep = {}, v_contact = {}", c.v_sep, c.v_contact)));
             }
+            if let Some(fr) = &c.fracture {
+                if fr.contour == 0 {
+                    return Err(invalid(format!("cracks[{i}].fracture.contour"), "must be at least 1 (cells from the node nearest the tip)"));
+                }
+            }
             if let ContactSpec::Friction { mu } = c.contact {
                 if !(mu >= 0.0 && mu.is_finite()) {
                     return Err(invalid(format!("cracks[{i}].contact.friction.mu"), format!("must be zero or positive, got {mu}")));
                 }
+            }
+            if s.crack_method == CrackMethod::Visibility && c.contact != ContactSpec::None {
+                return Err(invalid(
+                    format!("cracks[{i}].contact"),
+                    "solver.crack_method = \"visibility\" has one velocity field per node and no crack contact; \
+                     set contact = \"none\" (or use crack_method = \"velocity_fields\")",
+                ));
+            }
+        }
+        let (lo, hi) = (v(g.origin), v(g.origin) + v(g.size));
+        for (i, p) in self.probes.iter().enumerate() {
+            let f = |n: &str| format!("probes[{i}].{n}");
+            if p.name.is_empty() || !p.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+                return Err(invalid(f("name"), format!("must be non-empty letters, digits, '_' or '-' (it names the file probe_<name>.csv), got '{}'", p.name)));
+            }
+            if self.probes[..i].iter().any(|o| o.name == p.name) {
+                return Err(invalid(f("name"), format!("duplicate probe name '{}'", p.name)));
+            }
+            for (key, x) in [("from", p.from), ("to", p.to)] {
+                finite(&format!("{}[0]", f(key)), x[0])?;
+                finite(&format!("{}[1]", f(key)), x[1])?;
+                let tol = 1e-9 * (g.cell[0].min(g.cell[1]));
+                if x[0] < lo.x - tol || x[1] < lo.y - tol || x[0] > hi.x + tol || x[1] > hi.y + tol {
+                    return Err(invalid(f(key), format!("{x:?} lies outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
+                }
+            }
+            if p.from == p.to {
+                return Err(invalid(f("to"), format!("equals `from` {:?}: a probe line needs two different end points", p.from)));
+            }
+            if !(2..=100_000).contains(&p.points) {
+                return Err(invalid(f("points"), format!("must be 2 to 100000 (both ends are sampled), got {}", p.points)));
             }
         }
         Ok(())
@@ -556,7 +644,8 @@ impl Scene {
                     ContactSpec::Frictionless => ContactLaw::Friction(0.0),
                     ContactSpec::Friction { mu } => ContactLaw::Friction(mu),
                 };
-                Crack::new(c.points.iter().map(|p| v(*p)).collect(), law, c.v_sep, c.v_contact)
+                let vertices: Vec<Vector> = c.points.iter().map(|p| v(*p)).collect();
+                Crack::new(crate::crack::subdivide(&vertices, 0.5 * grid.min_h()), law, c.v_sep, c.v_contact)
             })
             .collect();
         let options = Options {
@@ -565,10 +654,29 @@ impl Scene {
             dt: self.time_step(),
             damping: self.solver.damping,
             checked: self.solver.checked,
+            crack_method: self.solver.crack_method,
         };
         let body_force = self.bodies.iter().map(|b| v(b.body_force)).collect();
         let thickness = self.bodies.iter().map(|b| b.thickness).collect();
         Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options))
+    }
+
+    /// Per crack, the J/K request of its `fracture` table (None: not computed).
+    pub fn fracture_requests(&self) -> Vec<Option<JRequest>> {
+        self.cracks
+            .iter()
+            .map(|c| {
+                c.fracture.as_ref().map(|f| JRequest {
+                    tips: match f.tips {
+                        TipsSpec::Start => vec![TipEnd::Start],
+                        TipsSpec::End => vec![TipEnd::End],
+                        TipsSpec::Both => vec![TipEnd::Start, TipEnd::End],
+                    },
+                    contour: f.contour,
+                    area_term: f.area_term,
+                })
+            })
+            .collect()
     }
 
     /// History interval (default end_time / 100).

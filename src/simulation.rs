@@ -2,7 +2,7 @@
 //! cracks — and the time loop around [`crate::step`].
 
 use crate::check::CheckError;
-use crate::crack::Crack;
+use crate::crack::{Crack, CrackMethod};
 use crate::dim::Vector;
 use crate::exact;
 use crate::grid::{Grid, Nodes};
@@ -36,6 +36,8 @@ pub struct Options {
     pub damping: f64,
     /// Run the invariant checks every step.
     pub checked: bool,
+    /// How cracks act on the particle–node pairs (CRAMP velocity fields by default).
+    pub crack_method: CrackMethod,
 }
 
 /// A load on a set of particles: the same force on each, ramped linearly from zero over
@@ -181,7 +183,7 @@ pub struct Simulation {
     /// Total energy scale at t = 0 for the instability check.
     pub(crate) energy_scale: f64,
     /// Side (+1 above, −1 below, 0 unknown) of each particle relative to each crack,
-    /// index p·ncracks + c (checked mode, cracks only).
+    /// index id·ncracks + c with the particle's id (checked mode, cracks only).
     pub(crate) crack_side: Vec<i8>,
 }
 

@@ -50,10 +50,7 @@ impl Simulation {
         }
         self.task3_forces();
         self.task4_update_momenta()?;
-        let power_before = self.external_power();
         self.task5_update_particles();
-        let power_after = self.external_power();
-        self.work.external_work += 0.5 * dt * (power_before + power_after);
         match scheme {
             // Task 6a: stresses from the momenta of Task 4.
             Scheme::Usl => self.update_stresses(dt),
@@ -151,7 +148,7 @@ impl Simulation {
     /// computed in parallel over the active nodes, then stored in node order.
     fn task1_extrapolate(&mut self) -> Result<(), CheckError> {
         if self.has_cracks() {
-            self.assign_velocity_fields()?;
+            self.task1_cracks()?;
         }
         self.build_node_incidence();
 
@@ -429,8 +426,12 @@ impl Simulation {
     }
 
     /// Task 5: particle positions and velocities from the updated nodal momenta and the
-    /// total forces (eq. 30), each pair using its own velocity field. In parallel over
-    /// particles.
+    /// total forces (eq. 30), each pair using its own velocity field. Also the work of the
+    /// external loads, Σ_p (f_p + m_p b)·Δx_p: the particles move with the grid velocity,
+    /// so this is the work the grid forces f_ext do. (The particle velocity v_p is not
+    /// the velocity to use: FLIP updates leave components in it the grid cannot see, and
+    /// under a load applied to a few rows of particles those correlate with the load.)
+    /// The sums run in parallel over particles.
     fn task5_update_particles(&mut self) {
         let dt = self.options.dt;
         {
@@ -454,6 +455,24 @@ impl Simulation {
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
+        // Work of the external loads, summed exactly over the particles with a load or a
+        // body force: the others' terms are ±0, which change the exact sum only in its
+        // sign when it is exactly zero, so that case is summed over all particles.
+        let has_ext = !self.loads.is_empty() || self.body_force.iter().any(|b| *b != Vector::zeros());
+        if has_ext {
+            let body_force = &self.body_force;
+            let work = |i: usize| {
+                let f = p.force[i] + body_force[p.body[i] as usize] * p.mass[i];
+                f.dot(&(incs[i].0 * dt))
+            };
+            let mut sum = crate::exact::sum_fast(self.scratch.forced.iter().map(|&i| work(i as usize)));
+            if sum == 0.0 {
+                sum = crate::exact::sum_fast((0..p.len()).map(work));
+            }
+            self.work.external_work += sum;
+        } else {
+            self.work.external_work += 0.0;
+        }
         (p.x.par_iter_mut(), p.v.par_iter_mut(), incs.par_iter()).into_par_iter().with_min_len(PARTICLE_CHUNK).for_each(|(x, v, (vel, acc))| {
             *x += vel * dt;
             *v += acc * dt;
@@ -493,7 +512,7 @@ impl Simulation {
         }
     }
 
-    /// List the particles with a load or a body force (for [`Self::external_power`]).
+    /// List the particles with a load or a body force (for the external work of Task 5).
     fn collect_forced_particles(&mut self) {
         let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
         let (p, body_force, forced) = (&self.particles, &self.body_force, &mut self.scratch.forced);
@@ -502,27 +521,6 @@ impl Simulation {
             return;
         }
         forced.extend((0..p.len()).filter(|&i| p.load[i] != NO_LOAD || (has_body && body_force[p.body[i] as usize] != Vector::zeros())).map(|i| i as u32));
-    }
-
-    /// Σ (f_p + m_p b)·v_p over the particles: the power of the external loads.
-    fn external_power(&self) -> f64 {
-        let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
-        if self.loads.is_empty() && !has_body {
-            return 0.0;
-        }
-        let p = &self.particles;
-        let power = |i: usize| {
-            let f = p.force[i] + self.body_force[p.body[i] as usize] * p.mass[i];
-            f.dot(&p.v[i])
-        };
-        // Only particles with a load or a body force contribute: the others' terms are
-        // ±0, which change the exact sum only in its sign when it is exactly zero, so
-        // that case is summed over all particles as before.
-        let sum = crate::exact::sum_fast(self.scratch.forced.iter().map(|&i| power(i as usize)));
-        if sum != 0.0 {
-            return sum;
-        }
-        crate::exact::sum_fast((0..p.len()).map(power))
     }
 
     /// Exact total of the nodal momenta over all fields.

@@ -187,6 +187,21 @@ fn crack_with_one_point() {
 }
 
 #[test]
+fn crack_method_bad_value_or_visibility_with_contact() {
+    // Not one of the two methods: the parse error names the key and the accepted values.
+    expect(
+        &edit("particles_per_cell = 2", "particles_per_cell = 2\ncrack_method = \"diffraction\""),
+        &["bad.toml", "crack_method", "diffraction", "velocity_fields", "visibility"],
+    );
+    // Node visibility has one field per node and so no crack contact: contact must be "none".
+    let vis = edit("particles_per_cell = 2", "particles_per_cell = 2\ncrack_method = \"visibility\"");
+    let t = format!("{vis}\n[[cracks]]\npoints = [[0.1, 0.4], [0.5, 0.4]]\n");
+    assert_eq!(invalid_field(&t), "cracks[0].contact"); // the default is frictionless
+    let t = format!("{vis}\n[[cracks]]\npoints = [[0.1, 0.4], [0.5, 0.4]]\ncontact = \"none\"\n");
+    Scene::from_toml(&t, "ok.toml").unwrap().build().unwrap();
+}
+
+#[test]
 fn load_selecting_no_particles() {
     let t = edit("particles = { region = { min = [0.2, 0.55], max = [0.8, 0.6] } }", "particles = { region = { min = [0.85, 0.85], max = [0.9, 0.9] } }");
     assert_eq!(invalid_field(&t), "loads[0].particles");

@@ -5,6 +5,7 @@
 //! whose separation gives the crack-opening displacements.
 
 pub mod geometry;
+mod visibility;
 
 use crate::check::CheckError;
 use crate::dim::Vector;
@@ -23,6 +24,23 @@ pub enum ContactLaw {
     Stick,
     /// Frictional sliding with coefficient μ (eqs. 14–19); μ = 0 is frictionless.
     Friction(f64),
+}
+
+/// How particle–node pairs near a crack are treated in Task 1.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CrackMethod {
+    /// CRAMP (Nairn 2003 §2.1): a pair whose line crosses a crack uses the node's
+    /// velocity field of the particle's side (fields 1 and 2), so a crack node carries two
+    /// independent fields; crack contact acts between them. Passes the crack-patch test.
+    #[default]
+    VelocityFields,
+    /// Node visibility (Belytschko, Lu & Gu 1994), the alternative Nairn 2003 §3.1 compares
+    /// CRAMP with: a node whose line to the particle crosses a crack does not influence
+    /// that particle; the shape functions are renormalized over the visible nodes. One
+    /// velocity field per node, hence no crack contact and no crack-surface tracking.
+    /// Does not pass the crack-patch test (the paper, §3.1).
+    Visibility,
 }
 
 /// One crack: its crack particles in order along the polyline, its contact law, and the
@@ -54,6 +72,53 @@ impl Crack {
     pub fn opening(&self, k: usize) -> Vector {
         self.above[k] - self.below[k]
     }
+
+    /// Unit tangent of the crack at crack particle k, along the crack's direction (from
+    /// its first point to its last): the chord from point k−1 to point k+1 (one-sided at
+    /// the tips). `None` for a degenerate chord.
+    pub fn tangent(&self, k: usize) -> Option<Vector> {
+        let n = self.points.len();
+        let (a, b) = (self.points[k.saturating_sub(1)], self.points[(k + 1).min(n - 1)]);
+        let d = b - a;
+        let l = d.norm();
+        (l > 0.0).then(|| d / l)
+    }
+
+    /// Crack-opening displacement at crack particle k in local components
+    /// `(normal, tangential)`: the normal component is (above − below)·n̂ with n̂ the unit
+    /// normal pointing to the "above" side (left of the crack's direction), so it is
+    /// positive when the faces are apart and negative when they interpenetrate; the
+    /// tangential component is the slip of the above face relative to the below face
+    /// along [`Crack::tangent`]. (Nairn 2003 §2.2 normal convention; surfaces as in
+    /// 004 §2.1.) `(0, 0)` at a degenerate chord.
+    pub fn opening_nt(&self, k: usize) -> (f64, f64) {
+        let Some(t) = self.tangent(k) else { return (0.0, 0.0) };
+        let n_above = Vector::new(-t.y, t.x);
+        let d = self.opening(k);
+        (d.dot(&n_above), d.dot(&t))
+    }
+}
+
+/// Crack particles along the polyline through `vertices`: every segment is divided
+/// evenly so that neighbouring crack particles are at most `max_spacing` apart. The
+/// scene's vertices are kept exactly. Crack particles move independently (Task 7), so
+/// their spacing is the resolution of the crack's shape and of its surfaces; half a cell
+/// is the usual choice (Nairn 2003 §2.1; the crack-opening displacement for K is read
+/// at the crack particle next to the tip, 004 §3).
+pub fn subdivide(vertices: &[Vector], max_spacing: f64) -> Vec<Vector> {
+    let mut out = Vec::with_capacity(vertices.len());
+    if let Some(first) = vertices.first() {
+        out.push(*first);
+    }
+    for s in vertices.windows(2) {
+        let d = s[1] - s[0];
+        let n = (d.norm() / max_spacing).ceil().max(1.0) as usize;
+        for k in 1..n {
+            out.push(s[0] + d * (k as f64 / n as f64));
+        }
+        out.push(s[1]);
+    }
+    out
 }
 
 /// Velocity field index for a crossing result (eq. 2): 0 none, 1 above, 2 below.
@@ -67,6 +132,16 @@ fn field_of(side: Side) -> u8 {
 }
 
 impl Simulation {
+    /// Task 1 with cracks, by the scene's [`CrackMethod`]: CRAMP's velocity fields
+    /// ([`Simulation::assign_velocity_fields`]) or node visibility
+    /// ([`Simulation::assign_visible_nodes`]).
+    pub(crate) fn task1_cracks(&mut self) -> Result<(), CheckError> {
+        match self.options.crack_method {
+            CrackMethod::VelocityFields => self.assign_velocity_fields(),
+            CrackMethod::Visibility => self.assign_visible_nodes(),
+        }
+    }
+
     /// Task 1 with cracks: ν(p,i) for every pair by the line-crossing algorithm, and the
     /// crack that split each node. A node split by two different cracks, or needing
     /// fields 0, 1 and 2 at once, stops the run: CRAMP allows two fields per node.
@@ -136,61 +211,116 @@ impl Simulation {
     }
 
     /// Task 7: move every crack particle in the centre-of-mass velocity of its nodes
-    /// (eq. 32), and each crack surface in the velocity field of its own side. Linear
-    /// shape functions at the crack particles (they are massless points).
+    /// (eq. 32), and each crack surface point in the velocity field of its own side
+    /// (001 eqs. 11–12): the field ν(s,i) of surface point s at node i is the one holding
+    /// the material on that side of the crack there ([`Simulation::surface_field`]), and
+    /// nodes without it are inactive for that surface, with the linear shape functions
+    /// renormalised over the active ones (001's N*). Crack particles are massless points,
+    /// hence linear (not GIMP) shape functions; nodes without mass are inactive too.
     pub(crate) fn task7_move_cracks(&mut self) {
         let dt = self.options.dt;
-        let nodes = &self.nodes;
-        let grid = &self.grid;
         let zero = Vector::zeros();
-        // Velocity of node i seen from side `pref` (1 above, 2 below, 0 centre of mass).
-        let vel = |i: usize, pref: usize| -> Option<Vector> {
-            let present = nodes.present[i];
-            if present == 0 {
-                return None;
-            }
-            if pref == 0 {
-                let mut m = ExactSum::new();
-                let mut px = ExactSum::new();
-                let mut py = ExactSum::new();
-                for (f, fa) in nodes.fields.iter().enumerate() {
-                    if present & (1 << f) != 0 {
-                        m.add(fa.mass[i]);
-                        px.add(fa.mom[i].x);
-                        py.add(fa.mom[i].y);
+        let this: &Simulation = self;
+        let mut moved_cracks = Vec::with_capacity(this.cracks.len());
+        for (c, crack) in this.cracks.iter().enumerate() {
+            let reach = 2.0 * this.grid.h.x.max(this.grid.h.y);
+            // Velocity at x from the nodes' fields chosen by `field(i)`, renormalised.
+            let velocity = |x: &Vector, field: &dyn Fn(usize) -> Option<Vector>| -> Vector {
+                let w = shape::weights(&this.grid, ShapeKind::Linear, x, &zero);
+                let (mut sx, mut sy, mut sw) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
+                for k in 0..w.n {
+                    if let Some(v) = field(w.node[k] as usize) {
+                        sx.add(w.s[k] * v.x);
+                        sy.add(w.s[k] * v.y);
+                        sw.add(w.s[k]);
                     }
                 }
-                return Some(Vector::new(px.value(), py.value()) / m.value());
-            }
-            let other = 3 - pref;
-            let f = [pref, 0, other].into_iter().find(|&f| present & (1 << f) != 0)?;
-            Some(nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
-        };
-        let moved = |x: &Vector, pref: usize| -> Vector {
-            let w = shape::weights(grid, ShapeKind::Linear, x, &zero);
-            let mut sx = ExactSum::new();
-            let mut sy = ExactSum::new();
-            for k in 0..w.n {
-                if let Some(v) = vel(w.node[k] as usize, pref) {
-                    sx.add(w.s[k] * v.x);
-                    sy.add(w.s[k] * v.y);
+                let ws = sw.value();
+                if ws > 0.0 {
+                    Vector::new(sx.value(), sy.value()) / ws
+                } else {
+                    zero
                 }
-            }
-            x + Vector::new(sx.value(), sy.value()) * dt
-        };
-        for crack in &mut self.cracks {
+            };
+            let cm = |i: usize| this.centre_of_mass_velocity(i);
+            let side = |i: usize, above: bool| {
+                this.surface_field(c, &crack.points, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i])
+            };
+            let on_above = |i: usize| side(i, true);
+            let on_below = |i: usize| side(i, false);
+            let mut next = crack.clone();
             for k in 0..crack.points.len() {
-                crack.points[k] = moved(&crack.points[k], 0);
-                crack.above[k] = moved(&crack.above[k], 1);
-                crack.below[k] = moved(&crack.below[k], 2);
+                next.points[k] = crack.points[k] + velocity(&crack.points[k], &cm) * dt;
+                next.above[k] = crack.above[k] + velocity(&crack.above[k], &on_above) * dt;
+                next.below[k] = crack.below[k] + velocity(&crack.below[k], &on_below) * dt;
             }
-            crack.extent = Extent::of(&crack.points);
+            next.extent = Extent::of(&next.points);
+            moved_cracks.push(next);
         }
+        self.cracks = moved_cracks;
+    }
+
+    /// Centre-of-mass velocity of node i over its fields (eq. 32), None without mass.
+    fn centre_of_mass_velocity(&self, i: usize) -> Option<Vector> {
+        let nodes = &self.nodes;
+        let present = nodes.present[i];
+        if present == 0 {
+            return None;
+        }
+        let (mut m, mut px, mut py) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
+        for (f, fa) in nodes.fields.iter().enumerate() {
+            if present & (1 << f) != 0 {
+                m.add(fa.mass[i]);
+                px.add(fa.mom[i].x);
+                py.add(fa.mom[i].y);
+            }
+        }
+        Some(Vector::new(px.value(), py.value()) / m.value())
+    }
+
+    /// The field of node i that holds the material on one side (`above`) of crack `c`,
+    /// or None if the node has none — ν(s,i) of 001 eq. 12 for a surface point s on that
+    /// side. Field 0 holds the material on the node's own side, field 1 (2) the material
+    /// above (below) the crack seen across it (Nairn 2003 §2.1). The node's own side
+    /// follows from its fields when the crack split it ({0,1}: below; {0,2}: above;
+    /// {1,2}: on the crack) and from the geometry otherwise; a node whose side is
+    /// unknown (ahead of a tip, or far) gives field 0.
+    pub(crate) fn surface_field(&self, c: usize, points: &[Vector], i: usize, above: bool, reach: f64) -> Option<usize> {
+        let nodes = &self.nodes;
+        let present = nodes.present[i];
+        let has = |f: usize| present & (1 << f) != 0;
+        let across = if above { 1 } else { 2 };
+        if present == 0 {
+            return None;
+        }
+        if present.count_ones() >= 2 && nodes.crack[i] as usize != c {
+            return None; // split by another crack: its fields say nothing about this one
+        }
+        let node_above = match (has(0), has(1), has(2)) {
+            (true, true, false) => Some(false),
+            (true, false, true) => Some(true),
+            (false, true, true) => return Some(across),
+            (false, true, false) => Some(false),
+            (false, false, true) => Some(true),
+            _ => match side_of(points, self.grid.node_pos(i), reach) {
+                1 => Some(true),
+                -1 => Some(false),
+                _ => None,
+            },
+        };
+        let f = match node_above {
+            Some(a) if a == above => 0,
+            Some(_) => across,
+            None => 0,
+        };
+        has(f).then_some(f)
     }
 
     /// Checked mode: no particle near a crack changes side. A particle's side is known
     /// when its projection on the crack falls inside a segment within two cells of it;
-    /// passing round a tip goes through "unknown" and resets the record.
+    /// passing round a tip goes through "unknown" and resets the record. The record is
+    /// kept by particle id, not by storage index, so reordering the particles between
+    /// steps (`Particles::permute`) cannot make it compare two different particles.
     pub(crate) fn check_crack_sides(&mut self) -> Result<(), CheckError> {
         let nc = self.cracks.len();
         let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
@@ -204,7 +334,7 @@ impl Simulation {
             ext.max += Vector::new(reach, reach);
             for i in 0..p.len() {
                 let x = p.x[i];
-                let slot = i * nc + c;
+                let slot = p.id[i] as usize * nc + c;
                 let side = if x.x < ext.min.x || x.x > ext.max.x || x.y < ext.min.y || x.y > ext.max.y {
                     0
                 } else {

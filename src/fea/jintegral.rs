@@ -134,14 +134,25 @@ pub fn j_integral(gm: &GridMesh, model: &Model, sol: &Solution, tip: &CrackTip, 
     if tip.node >= gm.mesh.n_nodes() || gm.node_grid[tip.node] != tip.grid_node {
         return Err(bad_tip("the tip node does not belong to this mesh"));
     }
-    // Every cell of the box out to n + 1 cells must hold material.
+    // Every cell of the box out to n + 1 cells must hold material, all of one group
+    // (the integrand assumes a homogeneous domain).
+    let mut group = None;
     for cj in jt - n - 1..jt + n + 1 {
         for ci in it - n - 1..it + n + 1 {
-            if gm.element_at(ci, cj).is_none() {
+            let Some(e) = gm.element_at(ci, cj) else {
                 return Err(FeaError::JDomainLeavesBody { cells, x: tip.position.x, y: tip.position.y, i: ci, j: cj });
+            };
+            let g = model.group(e);
+            if *group.get_or_insert(g) != g {
+                return Err(bad_tip(&format!(
+                    "the J domain of {cells} cell(s) crosses a material or thickness change (element groups {} and {g}); \
+                     the domain integral here assumes a homogeneous domain: use a smaller domain",
+                    group.unwrap_or(g)
+                )));
             }
         }
     }
+    let props = &model.properties[group.unwrap_or(0)];
     let q_node = |a: usize| -> f64 {
         let [i, j] = gm.node_grid[a].map(|v| v as isize);
         if (i - it).abs().max((j - jt).abs()) <= n {
@@ -155,7 +166,7 @@ pub fn j_integral(gm: &GridMesh, model: &Model, sol: &Solution, tip: &CrackTip, 
     let e1 = tip.direction;
     let e2 = Vector::new(-e1.y, e1.x);
     let rot = Matrix2::new(e1.x, e1.y, e2.x, e2.y);
-    let mat = &model.material;
+    let mat = &props.material;
     let (mu, kappa, e_prime) = (mat.shear_modulus(), mat.kappa(), mat.e_prime());
 
     let (mut j, mut i1, mut i2) = (0.0, 0.0, 0.0);

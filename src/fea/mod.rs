@@ -20,6 +20,8 @@
 //! * [`solve`] — model, boundary conditions, sparse assembly, Cholesky, stresses.
 //! * [`jintegral`] — J (domain integral), K_I and K_II (interaction integral, COD split).
 //! * [`output`] — nodal result tables, line probes, legacy VTK text.
+//! * [`scene`] — a scene file mapped onto the FEA (mesh, supports, loads, cracks), so one
+//!   scene runs both ways; [`run`] — `cramp fea`: solve, J/K per tip, files.
 //!
 //! Units are whatever the caller uses consistently (the tests use mm, N, MPa).
 //!
@@ -35,18 +37,21 @@
 //! * J. A. Nairn, "Material point method calculations with explicit cracks",
 //!   CMES 4 (2003) 649–663.
 
+pub mod compare;
 pub mod crack;
 pub mod element;
 pub mod jintegral;
 pub mod mesh;
 pub mod output;
+pub mod run;
+pub mod scene;
 pub mod solve;
 
 pub use crack::{CrackTip, MeshedCrack};
 pub use jintegral::{j_integral, JResult};
 pub use mesh::{Grid, GridMesh, Mesh};
 pub use output::{nodal_results, probe_line, write_vtk, NodalResults, ProbeSample};
-pub use solve::{assemble, solve, BoundaryConditions, Factorization, Model, Solution, System};
+pub use solve::{assemble, solve, BoundaryConditions, ElementProperties, Factorization, Model, Solution, System};
 
 /// Everything that can go wrong in the FEA. Every variant says what is wrong
 /// and where (indices, coordinates), so that a bad scene is fixable from the message.
@@ -57,6 +62,12 @@ pub enum FeaError {
 
     #[error("invalid input: {0}")]
     InvalidInput(String),
+
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+
+    #[error("scene field `{field}`: {message}")]
+    SceneField { field: String, message: String },
 
     #[error("element {element} refers to node {node}, but the mesh has {n_nodes} nodes")]
     ElementNodeOutOfRange { element: usize, node: usize, n_nodes: usize },

@@ -17,10 +17,9 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
-/// Mesh, material and thickness: everything that defines K.
+/// Material and thickness of a group of elements, with the D matrix of its plane state.
 #[derive(Clone, Debug)]
-pub struct Model<'m> {
-    pub mesh: &'m Mesh,
+pub struct ElementProperties {
     pub material: LinearElastic,
     /// Out-of-plane thickness t (multiplies every area integral and every traction).
     pub thickness: f64,
@@ -28,44 +27,13 @@ pub struct Model<'m> {
     d: Matrix3<f64>,
 }
 
-impl<'m> Model<'m> {
-    /// Validate the material, the thickness and every element (det J > 0 at all Gauss points).
-    pub fn new(mesh: &'m Mesh, material: LinearElastic, thickness: f64) -> Result<Model<'m>> {
-        if !(material.e > 0.0 && material.e.is_finite()) {
-            return Err(FeaError::InvalidInput(format!(
-                "Young's modulus E = {} must be positive and finite",
-                material.e
-            )));
-        }
-        let nu_max = match material.state {
-            PlaneState::PlaneStrain => 0.5,
-            PlaneState::PlaneStress => 1.0,
-        };
-        if !(material.nu > -1.0 && material.nu < nu_max) {
-            return Err(FeaError::InvalidInput(format!(
-                "Poisson's ratio ν = {} must lie in (−1, {nu_max}) for {:?}",
-                material.nu, material.state
-            )));
-        }
-        if !(thickness > 0.0 && thickness.is_finite()) {
-            return Err(FeaError::InvalidInput(format!("thickness {thickness} must be positive and finite")));
-        }
-        if mesh.elements.is_empty() {
-            return Err(FeaError::InvalidInput("the mesh has no elements".into()));
-        }
-        for e in 0..mesh.elements.len() {
-            let x = mesh.element_coords(e);
-            for (g, [xi, eta]) in GAUSS.iter().enumerate() {
-                element::point_data(&x, *xi, *eta).map_err(|det_j| FeaError::BadElement {
-                    element: e,
-                    gauss: g,
-                    det_j,
-                })?;
-            }
-        }
-        Ok(Model { mesh, material, thickness, d: material.d_matrix() })
+impl ElementProperties {
+    /// Properties of `material` at `thickness` (not validated; [`Model::with_groups`] validates).
+    pub fn new(material: LinearElastic, thickness: f64) -> ElementProperties {
+        ElementProperties { material, thickness, d: material.d_matrix() }
     }
 
+    /// D of the plane state (Voigt, engineering shear).
     pub fn d_matrix(&self) -> &Matrix3<f64> {
         &self.d
     }
@@ -88,6 +56,112 @@ impl<'m> Model<'m> {
             PlaneState::PlaneStress => -nu / (1.0 - nu) * (eps[0] + eps[1]),
         };
         Sym { xx: eps[0], yy: eps[1], zz, xy: 0.5 * eps[2] }
+    }
+}
+
+/// Mesh, materials and thicknesses: everything that defines K.
+///
+/// Element `e` uses `properties[group(e)]`; [`Model::new`] makes one group for the
+/// whole mesh, [`Model::with_groups`] one per body of a scene.
+#[derive(Clone, Debug)]
+pub struct Model<'m> {
+    pub mesh: &'m Mesh,
+    pub properties: Vec<ElementProperties>,
+    /// Group of every element (empty: all elements in group 0).
+    element_group: Vec<usize>,
+}
+
+fn check_properties(material: &LinearElastic, thickness: f64, what: &str) -> Result<()> {
+    if !(material.e > 0.0 && material.e.is_finite()) {
+        return Err(FeaError::InvalidInput(format!(
+            "{what}Young's modulus E = {} must be positive and finite",
+            material.e
+        )));
+    }
+    let nu_max = match material.state {
+        PlaneState::PlaneStrain => 0.5,
+        PlaneState::PlaneStress => 1.0,
+    };
+    if !(material.nu > -1.0 && material.nu < nu_max) {
+        return Err(FeaError::InvalidInput(format!(
+            "{what}Poisson's ratio ν = {} must lie in (−1, {nu_max}) for {:?}",
+            material.nu, material.state
+        )));
+    }
+    if !(thickness > 0.0 && thickness.is_finite()) {
+        return Err(FeaError::InvalidInput(format!("{what}thickness {thickness} must be positive and finite")));
+    }
+    Ok(())
+}
+
+impl<'m> Model<'m> {
+    /// One material and thickness for every element. Validates the material, the
+    /// thickness and every element (det J > 0 at all Gauss points).
+    pub fn new(mesh: &'m Mesh, material: LinearElastic, thickness: f64) -> Result<Model<'m>> {
+        Model::with_groups(mesh, vec![(material, thickness)], Vec::new())
+    }
+
+    /// Element `e` gets material and thickness `groups[element_group[e]]`
+    /// (`element_group` empty: every element in group 0).
+    pub fn with_groups(
+        mesh: &'m Mesh,
+        groups: Vec<(LinearElastic, f64)>,
+        element_group: Vec<usize>,
+    ) -> Result<Model<'m>> {
+        if groups.is_empty() {
+            return Err(FeaError::InvalidInput("no material given".into()));
+        }
+        let multi = groups.len() > 1;
+        for (k, (m, t)) in groups.iter().enumerate() {
+            let what = if multi { format!("element group {k}: ") } else { String::new() };
+            check_properties(m, *t, &what)?;
+        }
+        if mesh.elements.is_empty() {
+            return Err(FeaError::InvalidInput("the mesh has no elements".into()));
+        }
+        if !element_group.is_empty() && element_group.len() != mesh.elements.len() {
+            return Err(FeaError::InvalidInput(format!(
+                "{} element groups given for {} elements",
+                element_group.len(),
+                mesh.elements.len()
+            )));
+        }
+        if let Some(e) = element_group.iter().position(|&g| g >= groups.len()) {
+            return Err(FeaError::InvalidInput(format!(
+                "element {e} is in group {}, but there are {} groups",
+                element_group[e],
+                groups.len()
+            )));
+        }
+        for e in 0..mesh.elements.len() {
+            let x = mesh.element_coords(e);
+            for (g, [xi, eta]) in GAUSS.iter().enumerate() {
+                element::point_data(&x, *xi, *eta).map_err(|det_j| FeaError::BadElement {
+                    element: e,
+                    gauss: g,
+                    det_j,
+                })?;
+            }
+        }
+        let properties = groups
+            .into_iter()
+            .map(|(material, thickness)| ElementProperties::new(material, thickness))
+            .collect();
+        Ok(Model { mesh, properties, element_group })
+    }
+
+    /// Group of element `e`.
+    pub fn group(&self, e: usize) -> usize {
+        if self.element_group.is_empty() {
+            0
+        } else {
+            self.element_group[e]
+        }
+    }
+
+    /// Material, thickness and D of element `e`.
+    pub fn element(&self, e: usize) -> &ElementProperties {
+        &self.properties[self.group(e)]
     }
 }
 
@@ -149,7 +223,8 @@ impl BoundaryConditions {
     /// functions (Cook et al. 2002, consistent loads). Integrated with 3-point
     /// Gauss–Legendre, exact for tractions that are polynomials of degree ≤ 4 along the edge.
     ///
-    /// The edge must belong to an element (checked by a scan over the elements).
+    /// The edge must belong to an element (checked by a scan over the elements); the
+    /// thickness is that element's.
     pub fn edge_traction(
         &mut self,
         model: &Model,
@@ -160,13 +235,14 @@ impl BoundaryConditions {
         let mesh = model.mesh;
         mesh.check_node(a)?;
         mesh.check_node(b)?;
-        let is_edge = mesh
+        let owner = mesh
             .elements
             .iter()
-            .any(|c| (0..4).any(|k| (c[k] == a && c[(k + 1) % 4] == b) || (c[k] == b && c[(k + 1) % 4] == a)));
-        if !is_edge {
+            .position(|c| (0..4).any(|k| (c[k] == a && c[(k + 1) % 4] == b) || (c[k] == b && c[(k + 1) % 4] == a)));
+        let Some(owner) = owner else {
             return Err(FeaError::NotAnEdge { a, b });
-        }
+        };
+        let thickness = model.element(owner).thickness;
         let (xa, xb) = (mesh.nodes[a], mesh.nodes[b]);
         let len = (xb - xa).norm();
         // 3-point Gauss–Legendre on s ∈ [0, 1].
@@ -178,8 +254,8 @@ impl BoundaryConditions {
             if !(tau.x.is_finite() && tau.y.is_finite()) {
                 return Err(FeaError::InvalidInput(format!("traction on edge {a}–{b} is not finite")));
             }
-            fa += tau * ((1.0 - s) * w * len * model.thickness);
-            fb += tau * (s * w * len * model.thickness);
+            fa += tau * ((1.0 - s) * w * len * thickness);
+            fb += tau * (s * w * len * thickness);
         }
         self.point_load(a, fa)?;
         self.point_load(b, fb)
@@ -234,7 +310,8 @@ pub fn assemble(model: &Model, bcs: &BoundaryConditions) -> Result<System> {
     let mut rhs: Vec<f64> = (0..n_dofs).filter(|&d| eq[d] != usize::MAX).map(|d| bcs.force[d]).collect();
     let mut triplets = Vec::with_capacity(36 * mesh.elements.len());
     for (e, conn) in mesh.elements.iter().enumerate() {
-        let ke = element::stiffness(&mesh.element_coords(e), &model.d, model.thickness)
+        let props = model.element(e);
+        let ke = element::stiffness(&mesh.element_coords(e), &props.d, props.thickness)
             .map_err(|(gauss, det_j)| FeaError::BadElement { element: e, gauss, det_j })?;
         let dofs: [usize; 8] = std::array::from_fn(|k| 2 * conn[k / 2] + k % 2);
         for r in 0..8 {
@@ -330,6 +407,7 @@ pub fn postprocess(model: &Model, bcs: &BoundaryConditions, displacement: Vec<Ve
     let mut f_int = vec![Vector::zeros(); mesh.n_nodes()];
     for (e, conn) in mesh.elements.iter().enumerate() {
         let x = mesh.element_coords(e);
+        let props = model.element(e);
         let u = conn.map(|a| displacement[a]);
         let mut eps_g = [Sym::ZERO; 4];
         let mut sig_g = [Sym::ZERO; 4];
@@ -337,11 +415,11 @@ pub fn postprocess(model: &Model, bcs: &BoundaryConditions, displacement: Vec<Ve
             // The model validated every element, so det J > 0 here.
             let Ok(p) = element::point_data(&x, *xi, *eta) else { continue };
             let eps = element::strain(&p.grad_n, &u);
-            let sig = model.d * eps;
-            eps_g[g] = model.strain_tensor(&eps);
-            sig_g[g] = model.stress_from_strain(&eps);
+            let sig = props.d * eps;
+            eps_g[g] = props.strain_tensor(&eps);
+            sig_g[g] = props.stress_from_strain(&eps);
             let b: SMatrix<f64, 3, 8> = element::b_matrix(&p.grad_n);
-            let fe = b.transpose() * sig * (p.det_j * model.thickness);
+            let fe = b.transpose() * sig * (p.det_j * props.thickness);
             for k in 0..4 {
                 f_int[conn[k]] += Vector::new(fe[2 * k], fe[2 * k + 1]);
             }

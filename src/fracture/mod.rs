@@ -1,3 +1,5 @@
 //! Fracture parameters and growth criteria (Guo & Nairn 2004; Guo & Nairn 001).
 pub mod criteria;
+pub mod jintegral;
+pub mod nodal;
 pub mod speed;

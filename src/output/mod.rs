@@ -6,6 +6,7 @@
 pub mod vtk;
 
 use crate::dim::Vector;
+use crate::fracture::jintegral::{FractureError, TipResult};
 use crate::scene::Scene;
 use crate::simulation::{Energies, Simulation};
 use anyhow::Context;
@@ -90,6 +91,8 @@ pub struct RunOptions {
 #[derive(Clone, Debug)]
 pub struct RunResult {
     pub history: Vec<HistoryRow>,
+    /// J and K at every requested crack tip at each history time (cracks.csv).
+    pub tips: Vec<TipResult>,
     pub summary: Summary,
     pub sim: Simulation,
 }
@@ -124,12 +127,16 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         indicatif::ProgressBar::hidden()
     };
 
+    let requests = scene.fracture_requests();
+    let wants_j = requests.iter().any(Option::is_some);
     let mut history = vec![HistoryRow::of(&sim)];
+    let mut tips: Vec<TipResult> = Vec::new();
+    let mut fracture_error: Option<FractureError> = None;
     let mut next_hist = hist_dt;
     let mut archive_index = 0usize;
     let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
     if let (Some(dir), Some(_)) = (&opts.out_dir, arch_dt) {
-        write_snapshot(&sim, &dir.join(format!("particles_{archive_index:05}.vtk")))?;
+        write_snapshots(&sim, dir, archive_index)?;
         archive_index += 1;
     }
     let start = Instant::now();
@@ -139,13 +146,19 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         bar.inc(1);
         if s.time + half >= next_hist {
             history.push(HistoryRow::of(s));
+            if wants_j && fracture_error.is_none() {
+                match s.fracture_parameters(&requests) {
+                    Ok(t) => tips.extend(t),
+                    Err(e) => fracture_error = Some(e),
+                }
+            }
             while next_hist <= s.time + half {
                 next_hist += hist_dt;
             }
         }
         if s.time + half >= next_arch {
             if let Some(dir) = &opts.out_dir {
-                if let Err(e) = write_snapshot(s, &dir.join(format!("particles_{archive_index:05}.vtk"))) {
+                if let Err(e) = write_snapshots(s, dir, archive_index) {
                     io_error.get_or_insert(e);
                 }
             }
@@ -161,8 +174,14 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
     if let Some(e) = io_error {
         return Err(e);
     }
+    if let Some(e) = fracture_error {
+        return Err(anyhow::anyhow!(e));
+    }
     if history.last().map(|h| h.time) != Some(sim.time) {
         history.push(HistoryRow::of(&sim));
+        if wants_j && sim.step_count > 0 {
+            tips.extend(sim.fracture_parameters(&requests)?);
+        }
     }
     let summary = Summary {
         scene: scene.clone(),
@@ -179,10 +198,23 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
     };
     if let Some(dir) = &opts.out_dir {
         write_history(&dir.join("history.csv"), &history)?;
+        if wants_j {
+            write_tips(&dir.join("cracks.csv"), &tips)?;
+        }
         let json = serde_json::to_string_pretty(&summary)?;
         std::fs::write(dir.join("summary.json"), json).with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
     }
-    Ok(RunResult { history, summary, sim })
+    Ok(RunResult { history, tips, summary, sim })
+}
+
+/// Write cracks.csv: one row per requested crack tip per history time.
+pub fn write_tips(path: &Path, rows: &[TipResult]) -> anyhow::Result<()> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?);
+    writeln!(f, "{}", TipResult::HEADER)?;
+    for r in rows {
+        writeln!(f, "{}", r.csv())?;
+    }
+    Ok(())
 }
 
 /// Write history.csv.
@@ -193,6 +225,42 @@ pub fn write_history(path: &Path, rows: &[HistoryRow]) -> anyhow::Result<()> {
         writeln!(f, "{}", r.csv())?;
     }
     Ok(())
+}
+
+/// The snapshots of one archive time: `particles_NNNNN.vtk` and, when the scene has
+/// cracks, `cracks_NNNNN.vtk`.
+fn write_snapshots(sim: &Simulation, dir: &Path, index: usize) -> anyhow::Result<()> {
+    write_snapshot(sim, &dir.join(format!("particles_{index:05}.vtk")))?;
+    if sim.has_cracks() {
+        write_crack_snapshot(sim, &dir.join(format!("cracks_{index:05}.vtk")))?;
+    }
+    Ok(())
+}
+
+/// Crack snapshot in legacy VTK: for every crack, in scene order, three polylines — the
+/// crack particles (moved in the centre-of-mass velocity, Nairn 2003 Task 7), its
+/// "above" surface and its "below" surface (each moved in its own velocity field,
+/// Nairn 2003/Guo & Nairn: the crack-opening displacement is above − below at each
+/// crack particle). Cell scalars: `crack` (index in the scene) and `surface` (0 crack
+/// particles, 1 above, 2 below). ParaView: colour by `surface`, filter by `crack`.
+pub fn write_crack_snapshot(sim: &Simulation, path: &Path) -> anyhow::Result<()> {
+    let mut lines = Vec::with_capacity(3 * sim.cracks.len());
+    let mut crack = Vec::with_capacity(3 * sim.cracks.len());
+    let mut surface = Vec::with_capacity(3 * sim.cracks.len());
+    for (c, cr) in sim.cracks.iter().enumerate() {
+        for (k, pts) in [&cr.points, &cr.above, &cr.below].into_iter().enumerate() {
+            lines.push(pts.clone());
+            crack.push(c as f64);
+            surface.push(k as f64);
+        }
+    }
+    vtk::write_polylines(
+        path,
+        &format!("cramp cracks t={:e}", sim.time),
+        &lines,
+        &[("crack", &crack), ("surface", &surface)],
+    )
+    .with_context(|| format!("cannot write crack snapshot {}", path.display()))
 }
 
 /// Particle snapshot in legacy VTK, particles sorted by id so the file does not depend

@@ -1,0 +1,415 @@
+//! The dynamic J-integral at a crack tip and its partition into K_I and K_II
+//! (Guo & Nairn 2004 §3).
+//!
+//! * **Contour** (004 Fig. 3): the rectangle of grid lines n cells from the node nearest
+//!   the tip (default n = 2, a "2×2" path), traversed counter-clockwise. It is cut where
+//!   it crosses the crack; the cut gets two points, one per crack face, whose values are
+//!   interpolated between the two neighbouring perimeter nodes in the velocity field of
+//!   that face. The contour starts on the lower face (θ = −π in crack-tip coordinates)
+//!   and ends on the upper face (θ = +π); perimeter nodes in the first half use the
+//!   lower face's field where they have two, those in the second half the upper face's.
+//! * **Line term** (eqs. 12–13): F_m = (W + K) n_m − (σ·n)·∂u/∂x_m at the contour points
+//!   from the per-field nodal values of eq. 11 ([`crate::fracture::nodal`]), integrated
+//!   segment by segment with the trapezoidal ("midpoint") rule of eq. 12, n being the
+//!   segment's outward normal.
+//! * **Area term** (eq. 8, on request): ∫_A ρ (ü·∂u/∂x_m − u̇·∂u̇/∂x_m) dA over the
+//!   particles inside the rectangle as equally weighted points (ρA = m/thickness), with
+//!   velocity, acceleration and velocity gradient interpolated from the nodal fields of
+//!   each particle's own pairs (the grid velocity, not the particle's own, which carries
+//!   undamped components the grid cannot see — see [`NodalState::kinetic_energy`]). The two-term J is path independent; the line term alone is
+//!   only in the limit of a small contour.
+//! * **Crack-tip coordinates**: x₁′ along the last crack segment, pointing out of the tip;
+//!   x₂′ its counter-clockwise normal. J₁ = J·e₁′ is the energy release rate G for growth
+//!   straight ahead (eq. 10); J₂ = J·e₂′.
+//! * **K_I, K_II** (eqs. 14–15 with the speed factors of [`crate::fracture::speed`]): G
+//!   split by the crack-opening displacements δ_I (normal) and δ_II (sliding) of the
+//!   tracked crack surfaces (001 eqs. 11–12) at the crack particle next to the tip; δ is
+//!   the upper (+x₂′) face's position minus the lower face's. Known limitation: the
+//!   surfaces integrate the face velocities step by step and pick up the noise of
+//!   small-mass fields, so δ_II/δ_I swings by ±40 % in a damped mixed-mode beam (issue 4
+//!   note). Per-field nodal displacements (eq. 11) at the same point are smooth but
+//!   average the sliding over a cell into the arms and came out 5× too small in δ_II/δ_I;
+//!   neither is good enough for mixed mode yet.
+//!
+//! Which crack surface is "upper": a crack's `above` surface is to the left of the
+//! polyline's direction of travel (first point to last). At the last point (the "end"
+//! tip) e₁′ is that direction, so the upper face is `above`; at the first point (the
+//! "start" tip) e₁′ is reversed and the upper face is `below`.
+
+use crate::dim::{Sym, Tensor, Vector};
+use crate::exact::ExactSum;
+use crate::fracture::nodal::NodalState;
+use crate::fracture::speed::{speed_factors_for, SpeedError};
+use crate::material::LinearElastic;
+use crate::shape::MAX_NODES;
+use crate::simulation::Simulation;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Which end of a crack polyline is a tip.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TipEnd {
+    /// The first crack particle.
+    Start,
+    /// The last crack particle.
+    End,
+}
+
+/// What a scene asks to be computed at the tips of one crack.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JRequest {
+    pub tips: Vec<TipEnd>,
+    /// Half-size n of the n×n-cell rectangular contour.
+    pub contour: usize,
+    /// Include the area term of eq. 8 (two-term J).
+    pub area_term: bool,
+}
+
+/// Fracture parameters at one crack tip at one time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TipResult {
+    pub time: f64,
+    pub crack: usize,
+    pub end: TipEnd,
+    /// Tip position.
+    pub tip: Vector,
+    /// Unit vector e₁′ along the last segment, out of the tip.
+    pub direction: Vector,
+    /// J in crack-tip coordinates: the line term plus, when requested, the area term.
+    pub j1: f64,
+    pub j2: f64,
+    /// The line term alone (eq. 7 on the finite contour).
+    pub j1_line: f64,
+    pub j2_line: f64,
+    /// Crack-opening displacements at the crack particle next to the tip.
+    pub delta_i: f64,
+    pub delta_ii: f64,
+    /// Stress intensity factors from G = J₁ split by δ_I/δ_II (eqs. 14–15).
+    pub k1: f64,
+    pub k2: f64,
+}
+
+/// Why J could not be evaluated at a tip. Each names the crack, the tip and the cause.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum FractureError {
+    #[error("crack {crack} ({end:?} tip at ({x}, {y})): the {n}×{n} J contour around node ({ix}, {iy}) does not fit in the grid ({nx}×{ny} cells); use a smaller contour or a larger grid")]
+    ContourOutsideGrid { crack: usize, end: TipEnd, x: f64, y: f64, n: usize, ix: i64, iy: i64, nx: usize, ny: usize },
+    #[error("crack {crack} ({end:?} tip at ({x}, {y})): the J contour crosses the crack {crossings} times (need exactly once); the crack curves back through the contour or the tip is outside it — use a smaller contour")]
+    Crossings { crack: usize, end: TipEnd, x: f64, y: f64, crossings: usize },
+    #[error("crack {crack}: no particle to take the material of the tip from")]
+    NoMaterial { crack: usize },
+    #[error("crack {crack} ({end:?} tip): crack-speed factors: {source}")]
+    Speed { crack: usize, end: TipEnd, source: SpeedError },
+}
+
+/// One point of the cut contour: position and the nodal state of the field used there.
+#[derive(Clone, Copy, Debug)]
+struct ContourPoint {
+    x: Vector,
+    state: NodalState,
+}
+
+/// Preferred order of velocity fields for the material on one face: the `above` face is
+/// field 1 where a node has it (particles above, seen across the crack), else field 0
+/// (the node is on that side); symmetrically for `below` (Nairn 2003 §2.1).
+fn face_fields(above: bool) -> [usize; 3] {
+    if above {
+        [1, 0, 2]
+    } else {
+        [2, 0, 1]
+    }
+}
+
+fn state_on_face(states: &[Option<NodalState>; 3], above: bool) -> NodalState {
+    face_fields(above).iter().find_map(|&f| states[f]).unwrap_or_default()
+}
+
+fn lerp(a: &NodalState, b: &NodalState, t: f64) -> NodalState {
+    let l = |u: f64, v: f64| u + t * (v - u);
+    NodalState {
+        stress: Sym {
+            xx: l(a.stress.xx, b.stress.xx),
+            yy: l(a.stress.yy, b.stress.yy),
+            zz: l(a.stress.zz, b.stress.zz),
+            xy: l(a.stress.xy, b.stress.xy),
+        },
+        grad_u: a.grad_u + (b.grad_u - a.grad_u) * t,
+        strain_energy: l(a.strain_energy, b.strain_energy),
+        kinetic_energy: l(a.kinetic_energy, b.kinetic_energy),
+        displacement: a.displacement + (b.displacement - a.displacement) * t,
+        velocity: a.velocity + (b.velocity - a.velocity) * t,
+        acceleration: a.acceleration + (b.acceleration - a.acceleration) * t,
+    }
+}
+
+/// Eq. 13: the integrand vector (F₁, F₂) at a contour point for outward normal `n`.
+fn integrand(s: &NodalState, n: Vector) -> Vector {
+    let traction = s.stress.dot_vec(&n);
+    let energy = s.strain_energy + s.kinetic_energy;
+    // Σ_i t_i ∂u_i/∂x_m = (grad_uᵀ t)_m
+    n * energy - s.grad_u.transpose() * traction
+}
+
+impl TipResult {
+    pub const HEADER: &'static str = "time,crack,tip,x,y,dir_x,dir_y,j1,j2,j1_line,j2_line,delta_i,delta_ii,k1,k2";
+
+    /// One row of cracks.csv (`{:e}` round-trips f64 exactly).
+    pub fn csv(&self) -> String {
+        let end = match self.end {
+            TipEnd::Start => "start",
+            TipEnd::End => "end",
+        };
+        format!(
+            "{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+            self.time, self.crack, end, self.tip.x, self.tip.y, self.direction.x, self.direction.y, self.j1, self.j2, self.j1_line, self.j2_line, self.delta_i, self.delta_ii, self.k1, self.k2
+        )
+    }
+}
+
+impl Simulation {
+    /// J, K at one tip of crack `c` after the last completed step, with the crack moving at
+    /// `speed` (0 for a stationary crack).
+    pub fn tip_fracture(&self, c: usize, end: TipEnd, contour: usize, area_term: bool, speed: f64) -> Result<TipResult, FractureError> {
+        let crack = &self.cracks[c];
+        let np = crack.points.len();
+        let (tip, prev, next_to_tip) = match end {
+            TipEnd::End => (crack.points[np - 1], crack.points[np - 2], np - 2),
+            TipEnd::Start => (crack.points[0], crack.points[1], 1),
+        };
+        let d = (tip - prev).normalize();
+        let e2 = Vector::new(-d.y, d.x);
+        // The face at θ = +π (upper, +x₂′): `above` at the end tip, `below` at the start tip.
+        let upper_is_above = end == TipEnd::End;
+
+        let path = self.contour_nodes(c, end, tip, contour)?;
+        let pts = self.cut_contour(c, end, tip, &path, upper_is_above)?;
+
+        // Line term, eq. 12: trapezoidal rule per segment with the segment's outward normal.
+        let mut jx = ExactSum::new();
+        let mut jy = ExactSum::new();
+        for w in pts.windows(2) {
+            let seg = w[1].x - w[0].x;
+            let len = seg.norm();
+            if len == 0.0 {
+                continue;
+            }
+            let n = Vector::new(seg.y, -seg.x) / len;
+            let f = (integrand(&w[0].state, n) + integrand(&w[1].state, n)) * (0.5 * len);
+            jx.add(f.x);
+            jy.add(f.y);
+        }
+        let j_line = Vector::new(jx.value(), jy.value());
+        let j_area = if area_term { self.area_term(&path) } else { Vector::zeros() };
+        let j = j_line + j_area;
+
+        // Crack-opening displacements at the crack particle next to the tip.
+        let opening = crack.opening(next_to_tip);
+        let delta = if upper_is_above { opening } else { -opening };
+        let delta_i = delta.dot(&e2);
+        let delta_ii = delta.dot(&d);
+
+        let mat = self.material_near(tip).ok_or(FractureError::NoMaterial { crack: c })?;
+        let sf = speed_factors_for(mat, speed).map_err(|source| FractureError::Speed { crack: c, end, source })?;
+        let g = j.dot(&d);
+        let (k1, k2) = partition_k(g, delta_i, delta_ii, mat.shear_modulus(), sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
+        Ok(TipResult {
+            time: self.time,
+            crack: c,
+            end,
+            tip,
+            direction: d,
+            j1: g,
+            j2: j.dot(&e2),
+            j1_line: j_line.dot(&d),
+            j2_line: j_line.dot(&e2),
+            delta_i,
+            delta_ii,
+            k1,
+            k2,
+        })
+    }
+
+    /// The perimeter nodes of the n×n contour around the node nearest `tip`,
+    /// counter-clockwise from the lower-left corner.
+    fn contour_nodes(&self, c: usize, end: TipEnd, tip: Vector, n: usize) -> Result<Vec<usize>, FractureError> {
+        let g = &self.grid;
+        let ix = ((tip.x - g.origin.x) / g.h.x).round() as i64;
+        let iy = ((tip.y - g.origin.y) / g.h.y).round() as i64;
+        let ni = n as i64;
+        if n == 0 || ix - ni < 0 || iy - ni < 0 || ix + ni > g.nx as i64 || iy + ni > g.ny as i64 {
+            return Err(FractureError::ContourOutsideGrid { crack: c, end, x: tip.x, y: tip.y, n, ix, iy, nx: g.nx, ny: g.ny });
+        }
+        let (x0, x1, y0, y1) = ((ix - ni) as usize, (ix + ni) as usize, (iy - ni) as usize, (iy + ni) as usize);
+        let mut path = Vec::with_capacity(8 * n);
+        path.extend((x0..x1).map(|x| g.node_index(x, y0)));
+        path.extend((y0..y1).map(|y| g.node_index(x1, y)));
+        path.extend((x0 + 1..=x1).rev().map(|x| g.node_index(x, y1)));
+        path.extend((y0 + 1..=y1).rev().map(|y| g.node_index(x0, y)));
+        Ok(path)
+    }
+
+    /// Cut the closed perimeter where it crosses crack `c` and return the open contour
+    /// from the lower face round to the upper face, with each point's nodal state.
+    fn cut_contour(&self, c: usize, end: TipEnd, tip: Vector, path: &[usize], upper_is_above: bool) -> Result<Vec<ContourPoint>, FractureError> {
+        let m = path.len();
+        let pos = |k: usize| self.grid.node_pos(path[k % m]);
+        // Every crossing as (perimeter segment j, parameter t in [0, 1)), a crossing at a
+        // node counted once (t = 1 is the next segment's t = 0).
+        let mut hits: Vec<(usize, f64)> = Vec::new();
+        for j in 0..m {
+            for s in self.cracks[c].points.windows(2) {
+                if let Some((t, _)) = crate::crack::geometry::segment_intersection(pos(j), pos(j + 1), s[0], s[1]) {
+                    let hit = if t >= 1.0 { ((j + 1) % m, 0.0) } else { (j, t) };
+                    if !hits.contains(&hit) {
+                        hits.push(hit);
+                    }
+                }
+            }
+        }
+        if hits.len() != 1 {
+            return Err(FractureError::Crossings { crack: c, end, x: tip.x, y: tip.y, crossings: hits.len() });
+        }
+        let (j, t) = hits[0];
+        let lower_above = !upper_is_above;
+        let states: Vec<[Option<NodalState>; 3]> = (0..m).map(|k| self.nodal_state(path[k])).collect();
+        let cut = |above: bool| ContourPoint {
+            x: pos(j) + (pos(j + 1) - pos(j)) * t,
+            state: lerp(&state_on_face(&states[j], above), &state_on_face(&states[(j + 1) % m], above), t),
+        };
+        let mut pts = Vec::with_capacity(m + 2);
+        pts.push(cut(lower_above));
+        for k in 1..=m {
+            let node = (j + k) % m;
+            // First half of the nodes: the lower face's field; second half: the upper face's.
+            let above = if 2 * (k - 1) < m { lower_above } else { upper_is_above };
+            pts.push(ContourPoint { x: pos(node), state: state_on_face(&states[node], above) });
+        }
+        pts.push(cut(upper_is_above));
+        Ok(pts)
+    }
+
+    /// Area term of eq. 8 over the particles inside the contour's rectangle, in global
+    /// coordinates: Σ_p (m_p/B) [a_p·∂u/∂x_m − v_p·∂v/∂x_m], with v_p, a_p and ∂v/∂x from
+    /// the nodal fields of the particle's own pairs.
+    fn area_term(&self, path: &[usize]) -> Vector {
+        let g = &self.grid;
+        let (mut lo, mut hi) = (g.node_pos(path[0]), g.node_pos(path[0]));
+        for &i in path {
+            let x = g.node_pos(i);
+            lo = lo.inf(&x);
+            hi = hi.sup(&x);
+        }
+        let p = &self.particles;
+        let pairs = &self.pairs;
+        let nodes = &self.nodes;
+        let mut sx = ExactSum::new();
+        let mut sy = ExactSum::new();
+        let mut acc = [ExactSum::new(), ExactSum::new(), ExactSum::new(), ExactSum::new()];
+        let mut grad = [ExactSum::new(), ExactSum::new(), ExactSum::new(), ExactSum::new()];
+        for i in 0..p.len() {
+            let x = p.x[i];
+            if x.x < lo.x || x.x > hi.x || x.y < lo.y || x.y > hi.y {
+                continue;
+            }
+            acc.iter_mut().chain(grad.iter_mut()).for_each(ExactSum::clear);
+            let base = i * MAX_NODES;
+            for k in base..base + pairs.count[i] as usize {
+                let fa = &nodes.fields[pairs.field[k] as usize];
+                let node = pairs.node[k] as usize;
+                let m = fa.mass[node];
+                let (v, a) = (fa.mom[node] / m, fa.ftot[node] / m);
+                let (s, gr) = (pairs.s[k], pairs.g[k]);
+                acc[0].add(s * a.x);
+                acc[1].add(s * a.y);
+                acc[2].add(s * v.x);
+                acc[3].add(s * v.y);
+                grad[0].add(v.x * gr.x);
+                grad[1].add(v.x * gr.y);
+                grad[2].add(v.y * gr.x);
+                grad[3].add(v.y * gr.y);
+            }
+            let a = Vector::new(acc[0].value(), acc[1].value());
+            let v = Vector::new(acc[2].value(), acc[3].value());
+            let grad_v = Tensor::new(grad[0].value(), grad[1].value(), grad[2].value(), grad[3].value());
+            let w = p.mass[i] / self.thickness[p.body[i] as usize];
+            let f = (p.grad_u[i].transpose() * a - grad_v.transpose() * v) * w;
+            sx.add(f.x);
+            sy.add(f.y);
+        }
+        Vector::new(sx.value(), sy.value())
+    }
+
+    /// The material of the particle nearest to `x` (ties: lowest id).
+    fn material_near(&self, x: Vector) -> Option<&LinearElastic> {
+        let p = &self.particles;
+        (0..p.len())
+            .min_by(|&a, &b| (p.x[a] - x).norm_squared().total_cmp(&(p.x[b] - x).norm_squared()).then(p.id[a].cmp(&p.id[b])))
+            .map(|i| &self.materials[p.material[i] as usize])
+    }
+
+    /// Fracture parameters at every requested tip (`requests[c]` for crack c), crack speed 0.
+    pub fn fracture_parameters(&self, requests: &[Option<JRequest>]) -> Result<Vec<TipResult>, FractureError> {
+        let mut out = Vec::new();
+        for (c, r) in requests.iter().enumerate() {
+            if let Some(r) = r {
+                for &end in &r.tips {
+                    out.push(self.tip_fracture(c, end, r.contour, r.area_term, 0.0)?);
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Eqs. 14–15 of Guo & Nairn 2004 (β labels as in [`crate::fracture::speed`]: the
+/// paper's β_I is β_d and β_II is β_s):
+/// K_I = δ_I √(2μGβ_s / (A_I (δ_I²β_s + δ_II²β_d))), K_II = δ_II √(2μGβ_d / (A_II (δ_I²β_s + δ_II²β_d))),
+/// so that G = (A_I K_I² + A_II K_II²)/(2μ) and, for a stationary crack,
+/// K_I = (δ_I/δ)√(E′G) (eq. 21). A closed crack (δ = 0) or G ≤ 0 gives K = 0: the split is
+/// undefined there, and J itself is reported alongside.
+#[allow(clippy::too_many_arguments)]
+pub fn partition_k(g: f64, delta_i: f64, delta_ii: f64, mu: f64, beta_d: f64, beta_s: f64, a_i: f64, a_ii: f64) -> (f64, f64) {
+    let denom = delta_i * delta_i * beta_s + delta_ii * delta_ii * beta_d;
+    if !(g > 0.0) || !(denom > 0.0) {
+        return (0.0, 0.0);
+    }
+    let k1 = delta_i * (2.0 * mu * g * beta_s / (a_i * denom)).sqrt();
+    let k2 = delta_ii * (2.0 * mu * g * beta_d / (a_ii * denom)).sqrt();
+    (k1, k2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::PlaneState;
+
+    #[test]
+    fn stationary_partition_reduces_to_eq_21() {
+        // Plane stress: K = (δ/|δ|)√(EG) for each mode.
+        let m = LinearElastic { e: 2300.0, nu: 0.33, rho: 1.5e-3, state: PlaneState::PlaneStress };
+        let sf = speed_factors_for(&m, 0.0).unwrap();
+        let (g, di, dii) = (0.01, 3.0e-3, 4.0e-3);
+        let (k1, k2) = partition_k(g, di, dii, m.shear_modulus(), sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
+        let k = (m.e * g).sqrt();
+        approx::assert_relative_eq!(k1, 0.6 * k, max_relative = 1e-14);
+        approx::assert_relative_eq!(k2, 0.8 * k, max_relative = 1e-14);
+    }
+
+    #[test]
+    fn moving_partition_returns_g() {
+        // G = (A_I K_I² + A_II K_II²)/(2μ) for any speed below c_R (references §7).
+        let m = LinearElastic { e: 2940.0, nu: 0.3, rho: 1.19e-3, state: PlaneState::PlaneStrain };
+        let sf = speed_factors_for(&m, 0.4 * m.shear_wave_speed()).unwrap();
+        let (g, di, dii) = (0.02, 1.0e-3, -2.5e-4);
+        let (k1, k2) = partition_k(g, di, dii, m.shear_modulus(), sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
+        approx::assert_relative_eq!(sf.energy_release_rate(k1, k2, m.shear_modulus()), g, max_relative = 1e-14);
+        assert!(k1 > 0.0 && k2 < 0.0);
+    }
+
+    #[test]
+    fn closed_crack_or_negative_g_gives_zero_k() {
+        assert_eq!(partition_k(1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0), (0.0, 0.0));
+        assert_eq!(partition_k(-1e-20, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0), (0.0, 0.0));
+    }
+}

@@ -1,0 +1,193 @@
+//! J-integral and stress intensity factors on the split-beam specimens of Guo & Nairn
+//! 2004 §4.1 (Fig. 4): 100 × 24 × 1 mm, crack on the mid-plane y = 12 from the loaded
+//! end x = 100 to the tip at x = 50, E = 2300 MPa, ν = 0.33, ρ = 1.5 g/cm³, plane
+//! stress, left edge clamped, end loads P_T (top arm) and P_B (bottom arm) applied at
+//! t = 0 and held, damped so the run settles to the static solution. Units mm, g, ms
+//! (N, MPa; K in MPa√mm; loads per unit thickness since the thickness is 1 mm).
+//!
+//! References (verification references §1(a), §1(b); Guo & Nairn 2004 eqs. 23–24):
+//! * DCB, P_T = −P_B = P: corrected beam theory K_I = 2√3 P (a + χh)/h^{3/2}, h = 12 mm
+//!   the arm thickness, χ = 0.6688 (Williams 1989 for ν = 0.33; Kanninen's 0.639 and
+//!   the elasticity value 0.673 move K_I by −0.6 % / +0.1 %); K_II = 0 by symmetry.
+//! * Equal-shear split beam ("ENF" in 004), P_T = P_B = P: K_II = 3Pa/h^{3/2} ·
+//!   √(1 + (2(1+ν)/5)(h/a)²) (Carlsson et al. 1986 shear correction), K_I = 0 by
+//!   antisymmetry. Crack-face contact is off ("none"): the exact faces slide without
+//!   pressure, and the arms bend alike, so they do not interpenetrate.
+//! * Mixed, P_T = P, P_B = 0 = ½(P, −P) + ½(P, P): K_I and K_II are half of the two
+//!   above (superposition of the beam-theory values).
+//! Here a is measured from the load line — the column of loaded particles at
+//! x = 100 − h/4 — to the tip: a = 50 − h/4.
+//!
+//! Set-up choices, each stated because each moves the result:
+//! * The grid is shifted a quarter cell in x so the tip lies inside a cell, not on a
+//!   node (see verification/references-errata.md: a tip on a node makes one arm one
+//!   cell shorter once the crack leaves the grid line, +20 % in the mode II J at 2 mm).
+//! * Damping: the paper's κ = 1 ms⁻¹ and 12 ms for the loads with a net force; for the
+//!   DCB's self-equilibrated loads κ = 5 ms⁻¹ and 3 ms (see [`ARMS`], [`WHOLE_BEAM`]).
+//!   The static reference does not depend on κ (the damping force κp vanishes at rest);
+//!   each test checks that K has stopped changing.
+//! * CI resolution 2 mm cells, 2×2 particles per cell (the paper: "the mode I results
+//!   converged for 2 × 2 mm cells, while the mode II results required smaller 1 × 1 mm
+//!   cells"). The J contour is the paper's 2×2 for the DCB; for the two mode II cases it
+//!   is 3×3: at 2 mm the 2×2 contour passes 4 mm from the tip, where the sliding field
+//!   is resolved by two cells, and gives J 4–5 % below the larger contours, which agree
+//!   with each other (measured; printed by the tests). The 1 mm runs with 2×2 contours
+//!   are in the full verification suite.
+
+use cramp::fracture::jintegral::{TipEnd, TipResult};
+use cramp::output::{run_scene, RunOptions, RunResult};
+use cramp::scene::Scene;
+
+const E: f64 = 2300.0;
+const NU: f64 = 0.33;
+const ARM: f64 = 12.0;
+const CHI: f64 = 0.6688;
+
+/// How long and how damped a run must be to settle to the static solution.
+#[derive(Clone, Copy)]
+struct Settle {
+    damping: f64,
+    end_time: f64,
+}
+
+/// Self-equilibrated opening loads excite only the arms' bending (ω ≈ 6 ms⁻¹): κ = 5 ms⁻¹
+/// is near critical and 3 ms is ample.
+const ARMS: Settle = Settle { damping: 5.0, end_time: 3.0 };
+/// Loads with a net force also bend the whole beam, a cantilever 100 mm long and 24 mm
+/// deep (ω₁ = 1.875²√(EI/ρAL⁴) ≈ 0.62 ms⁻¹, period ≈ 10 ms): no damping settles that in
+/// less than ~10 ms; the paper's κ = 1 ms⁻¹ (decay e^{−t/2}) is used, run to 12 ms.
+const WHOLE_BEAM: Settle = Settle { damping: 1.0, end_time: 12.0 };
+
+fn beam(h: f64, p_top: f64, p_bottom: f64, contact: &str, contour: usize, settle: Settle) -> String {
+    let Settle { damping, end_time } = settle;
+    format!(
+        r#"
+title = "split beam (Guo & Nairn 2004 §4.1), h = {h} mm, P_T = {p_top}, P_B = {p_bottom}"
+[grid]
+origin = [{ox}, -8.0]
+size = [116.0, 40.0]
+cell = [{h}, {h}]
+[solver]
+end_time = {end_time}
+damping = {damping}
+particles_per_cell = 2
+[output]
+history_interval = 0.5
+[[materials]]
+name = "epoxy"
+E = {E}
+nu = {NU}
+rho = 1.5e-3
+state = "plane_stress"
+[[bodies]]
+material = "epoxy"
+shape = {{ rectangle = {{ min = [0.0, 0.0], max = [100.0, 24.0] }} }}
+[[boundary]]
+nodes = {{ region = {{ min = [{ox}, -8.0], max = [0.0, 32.0] }} }}
+vx = 0.0
+vy = 0.0
+[[loads]]
+particles = {{ region = {{ min = [{lx}, 12.0], max = [100.0, 24.0] }} }}
+force = [0.0, {p_top}]
+[[loads]]
+particles = {{ region = {{ min = [{lx}, 0.0], max = [100.0, 12.0] }} }}
+force = [0.0, {p_bottom}]
+[[cracks]]
+points = [[104.0, 12.0], [50.0, 12.0]]
+contact = "{contact}"
+fracture = {{ tips = "end", contour = {contour} }}
+"#,
+        lx = 100.0 - 0.5 * h,
+        ox = -8.0 - 0.25 * h,
+    )
+}
+
+fn a_of(h: f64) -> f64 {
+    50.0 - 0.25 * h
+}
+
+/// Corrected beam theory for the DCB, P per arm.
+fn k_dcb(p: f64, a: f64) -> f64 {
+    2.0 * 3f64.sqrt() * p * (a + CHI * ARM) / ARM.powf(1.5)
+}
+
+/// Beam theory with shear correction for the equal-shear split beam, P per arm.
+fn k_enf(p: f64, a: f64) -> f64 {
+    3.0 * p * a / ARM.powf(1.5) * (1.0 + 2.0 * (1.0 + NU) / 5.0 * (ARM / a).powi(2)).sqrt()
+}
+
+fn run(h: f64, p_top: f64, p_bottom: f64, contact: &str, contour: usize, settle: Settle) -> RunResult {
+    let scene = Scene::from_toml(&beam(h, p_top, p_bottom, contact, contour, settle), "split beam").unwrap();
+    run_scene(&scene, &RunOptions::default()).unwrap()
+}
+
+/// The static result: the last row of cracks.csv, after checking the run has settled
+/// (K_I and K_II change by less than 0.2 % of |K| over the last 0.5 ms).
+fn settled(r: &RunResult) -> TipResult {
+    let n = r.tips.len();
+    assert!(n >= 2, "cracks.csv rows: {n}");
+    let (a, b) = (&r.tips[n - 2], &r.tips[n - 1]);
+    let k = b.k1.hypot(b.k2);
+    assert!((a.k1 - b.k1).abs() < 2e-3 * k && (a.k2 - b.k2).abs() < 2e-3 * k, "not settled: {a:?} → {b:?}");
+    *b
+}
+
+/// J on the n×n contours, for the path-independence statement.
+fn contours(r: &RunResult) -> Vec<f64> {
+    (2..=4).map(|n| r.sim.tip_fracture(0, TipEnd::End, n, false, 0.0).unwrap().j1).collect()
+}
+
+#[test]
+fn dcb_mode_i_k_matches_corrected_beam_theory_at_2mm() {
+    let h = 2.0;
+    let r = run(h, 1.0, -1.0, "none", 2, ARMS);
+    let t = settled(&r);
+    let k_ref = k_dcb(1.0, a_of(h));
+    let err = (t.k1 - k_ref) / k_ref;
+    let js = contours(&r);
+    println!("DCB h = {h}: K_I = {:.4} vs {k_ref:.4} ({:+.2} %), K_II = {:.2e}, J(2×2, 3×3, 4×4) = {js:?}, √(E J) = {:.4}, wall {:.1} s", t.k1, 100.0 * err, t.k2, (E * t.j1).sqrt(), r.summary.wall_time_s);
+    // 2 %: the issue's and the paper's accuracy for converged mode I (beam theory itself,
+    // through χ, is uncertain by ~0.7 %).
+    assert!(err.abs() <= 0.02, "K_I error {err}");
+    assert!(t.k2.abs() <= 0.01 * t.k1, "K_II {}", t.k2);
+    // Static J is path independent: contours 2–4 cells agree within 0.5 %.
+    for j in &js {
+        assert!(((j - js[0]) / js[0]).abs() <= 5e-3, "J on the contours {js:?}");
+    }
+}
+
+/// Not yet passing (issue 4 open): at 2 mm, κ = 1 ms⁻¹, 12 ms, K_II = 3.593 vs 3.628
+/// (−1.0 %) and K_I/K_II = −6.5 %, but K has not settled — J changes 3 % in the last
+/// 0.5 ms. Run with `cargo test --release -- --ignored`.
+#[test]
+#[ignore = "issue 4: the mode II beam does not settle within 12 ms at 2 mm (J swings ±3 %)"]
+fn split_beam_mode_ii_k_matches_beam_theory_at_2mm() {
+    let h = 2.0;
+    let r = run(h, 1.0, 1.0, "none", 3, WHOLE_BEAM);
+    let t = settled(&r);
+    let k_ref = k_enf(1.0, a_of(h));
+    let err = (t.k2.abs() - k_ref) / k_ref;
+    let js = contours(&r);
+    println!("ENF h = {h}: K_II = {:.4} vs {k_ref:.4} ({:+.2} %), K_I = {:.4}, J(2×2, 3×3, 4×4) = {js:?}, wall {:.1} s", t.k2, 100.0 * err, t.k1, r.summary.wall_time_s);
+    // 3 %: the issue's tolerance; beam theory with the shear correction is good to 1–3 %
+    // for a/h ≈ 4 (references §1(b)).
+    assert!(err.abs() <= 0.03, "K_II error {err}");
+    // K_I vanishes by antisymmetry; the partition reads it from δ_I/δ_II at the crack
+    // particle h/2 behind the tip, where δ_II ≈ 5 µm: |K_I| ≤ 10 % of |K_II| ("small").
+    assert!(t.k1.abs() <= 0.1 * t.k2.abs(), "K_I {} should vanish by antisymmetry", t.k1);
+}
+
+/// Not yet passing (issue 4 open): J settles (3.83e-3 after 8 ms), but δ_II from the
+/// tracked crack surfaces next to the tip swings between 0.7 and 3.8 µm, so the K_I/K_II
+/// split does not settle (K_II between 0.5 and 1.9 against 1.81).
+#[test]
+#[ignore = "issue 4: the crack-surface COD that splits K_I/K_II is too noisy in mixed mode"]
+fn mixed_mode_k_is_the_superposition_of_modes_i_and_ii_at_2mm() {
+    let h = 2.0;
+    let r = run(h, 1.0, 0.0, "none", 3, WHOLE_BEAM);
+    let t = settled(&r);
+    let (k1_ref, k2_ref) = (0.5 * k_dcb(1.0, a_of(h)), 0.5 * k_enf(1.0, a_of(h)));
+    let (e1, e2) = ((t.k1 - k1_ref) / k1_ref, (t.k2.abs() - k2_ref) / k2_ref);
+    println!("mixed h = {h}: K_I = {:.4} vs {k1_ref:.4} ({:+.2} %), K_II = {:.4} vs {k2_ref:.4} ({:+.2} %), wall {:.1} s", t.k1, 100.0 * e1, t.k2, 100.0 * e2, r.summary.wall_time_s);
+    assert!(e1.abs() <= 0.03 && e2.abs() <= 0.03, "K_I error {e1}, K_II error {e2}");
+}
