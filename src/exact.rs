@@ -11,61 +11,182 @@
 //! * shuffling the particles does not change a single bit;
 //! * any number of threads gives the same bits as one.
 //!
-//! The algorithm is Shewchuk's (1997) expansion of non-overlapping partials with the
-//! final round-half-even correction used by Python's `math.fsum` (Hettinger's recipe),
-//! which is correctly rounded for finite inputs. With a few terms per node the
-//! expansion holds one to three partials, so an addition costs a handful of flops.
+//! A correctly rounded sum is unique, so *how* it is computed does not show in the bits.
+//! [`ExactSum`] uses two algorithms:
+//!
+//! * **Fast path: a 128-bit fixed-point accumulator.** A finite non-zero double is
+//!   x = ±M·2^(E−1075) with an integer significand M < 2^53 and E its biased exponent
+//!   (E = 1 for subnormals, whose M has no implicit bit). While all non-zero terms have
+//!   exponents in a window [base, top] with top − base ≤ [`SPAN`] = 64, at most
+//!   [`MAX_TERMS`] = 1024 of them, and base ≥ 53, top ≤ 2000, the accumulator keeps the
+//!   *exact* integer `acc` = Σ ±M_i·2^(E_i − base), so that the exact sum is
+//!   acc·2^(base−1075). Proof that nothing is lost:
+//!   - every term is an integer multiple of 2^(base−1075) (its ulp is 2^(E_i−1075) and
+//!     E_i ≥ base), so acc is an integer;
+//!   - |acc| ≤ Σ (2^53 − 1)·2^(E_i − base) < n·2^(53+SPAN) ≤ 2^10·2^117 = 2^127, so no
+//!     partial sum overflows an i128 (the bound holds for every prefix, and when a new
+//!     smaller term lowers `base`, acc is shifted left by the difference, which keeps
+//!     the same bound with the new span);
+//!   - the result is `(acc as f64) · 2^(base−1075)`. Rust's integer-to-float cast rounds
+//!     to nearest, ties to even (the Reference, "numeric cast"), and multiplying by a
+//!     power of two is exact and commutes with that rounding as long as the result is a
+//!     normal number: it is, since |acc| ≥ 1 gives |result| ≥ 2^(base−1075) ≥ 2^−1022
+//!     (base ≥ 53), and |result| ≤ 2^127·2^(2000−1075) is far from overflow. So the
+//!     result is the exact sum correctly rounded.
+//!
+//!   An addition costs a few integer instructions and no data-dependent loop; the
+//!   accumulator needs no memory beyond itself.
+//! * **Fallback: Shewchuk's (1997) expansion** of non-overlapping partials with the
+//!   final round-half-even correction of Python's `math.fsum` (Hettinger's recipe),
+//!   correctly rounded for finite inputs without overflow. Used when a term falls
+//!   outside the window (terms over more than 64 binades, as ahead of a wave front,
+//!   subnormal-range terms, huge terms, more than 1024 terms). On switching, the fixed-
+//!   point value is handed over exactly as at most three doubles of ≤ 43 bits each, so
+//!   the expansion sums exactly the same real number.
+//!
+//! Signed zeros are reproduced too: an exact zero is −0 if every term was −0 (and
+//! there was at least one), +0 otherwise, as IEEE addition in any order gives. A
+//! non-finite term makes the result the (order-independent) IEEE sum of the non-finite
+//! terms: NaN or ±∞, which the checked mode reports.
+//!
+//! The tests below check both paths against an independent big-integer reference
+//! (random terms over many binades, cancellations, ties to even, subnormals, signed
+//! zeros, and the switch between the paths).
+
+/// Widest exponent span of the fixed-point window (binades between the smallest and the
+/// largest term's least significant bit).
+pub const SPAN: i32 = 64;
+/// Most terms the fixed-point window accepts (with [`SPAN`], |acc| < 2^127).
+pub const MAX_TERMS: u32 = 1024;
+/// Smallest biased exponent in the window: 2^(53−1075) = 2^−1022, so the result is normal.
+const MIN_EXP: i32 = 53;
+/// Largest biased exponent in the window (terms below 2^978): no overflow anywhere.
+const MAX_EXP: i32 = 2000;
+
+const SIGN_BIT: u64 = 1 << 63;
+const FRAC_MASK: u64 = (1 << 52) - 1;
+const IMPLICIT_BIT: u64 = 1 << 52;
+
+/// 2^k for −1022 ≤ k ≤ 1023, exactly.
+#[inline]
+fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
 
 /// An exact accumulator: add terms in any order, read the correctly rounded sum.
 ///
-/// The partials live in a `Vec` that grows as needed: non-overlapping partials need not
-/// use 53 bits each, so terms spread over many binades (velocities decaying ahead of a
-/// wave front, say) can need hundreds of them. Accumulators are reused with
-/// [`ExactSum::clear`], which keeps the allocation, so the hot loops allocate once.
-#[derive(Clone, Debug, Default)]
+/// Reuse one accumulator for many sums with [`ExactSum::clear`]; it allocates only if a
+/// sum ever needs the fallback expansion, and keeps that allocation.
+#[derive(Clone, Debug)]
 pub struct ExactSum {
+    /// Fixed-point sum of the non-zero finite terms: exact value acc·2^(base−1075).
+    acc: i128,
+    /// Smallest biased exponent (≥ 1) of a non-zero term so far: the scale of `acc`.
+    base: i32,
+    /// Largest biased exponent of a non-zero term so far.
+    top: i32,
+    /// Non-zero finite terms in `acc`.
+    n: u32,
+    /// Finite terms seen (zeros included), for the sign of an exact zero.
+    finite_terms: u32,
+    /// Every finite term so far was −0.
+    all_neg_zero: bool,
+    /// The fixed-point window was left: the expansion below holds the sum.
+    slow: bool,
+    /// Shewchuk's non-overlapping partials (fallback only).
     partials: Vec<f64>,
-    /// Sum of the non-finite terms (0 when there are none): a NaN or infinity poisons the
-    /// result visibly, and the checked mode reports it.
+    /// IEEE sum of the non-finite terms (0 when there are none): a NaN or infinity
+    /// poisons the result visibly, and the checked mode reports it.
     special: f64,
 }
 
+impl Default for ExactSum {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl ExactSum {
+    /// An empty accumulator (no allocation).
     #[inline]
-    pub fn new() -> Self {
-        ExactSum { partials: Vec::with_capacity(8), special: 0.0 }
+    pub const fn new() -> Self {
+        ExactSum { acc: 0, base: 0, top: 0, n: 0, finite_terms: 0, all_neg_zero: true, slow: false, partials: Vec::new(), special: 0.0 }
     }
 
-    /// Forget all terms (cheap: the allocation is kept), so one accumulator serves many sums.
+    /// Forget all terms (cheap: any allocation is kept), so one accumulator serves many sums.
     #[inline]
     pub fn clear(&mut self) {
-        self.partials.clear();
+        self.acc = 0;
+        self.n = 0;
+        self.finite_terms = 0;
+        self.all_neg_zero = true;
         self.special = 0.0;
+        if self.slow {
+            self.slow = false;
+            self.partials.clear();
+        }
     }
 
     /// Add one term.
     #[inline]
-    pub fn add(&mut self, mut x: f64) {
-        if !x.is_finite() {
+    pub fn add(&mut self, x: f64) {
+        let bits = x.to_bits();
+        let e = ((bits >> 52) & 0x7ff) as i32;
+        if e == 0x7ff {
             self.special += x;
             return;
         }
-        let mut i = 0;
-        for j in 0..self.partials.len() {
-            let mut y = self.partials[j];
-            if x.abs() < y.abs() {
-                std::mem::swap(&mut x, &mut y);
-            }
-            let hi = x + y;
-            let lo = y - (hi - x);
-            if lo != 0.0 {
-                self.partials[i] = lo;
-                i += 1;
-            }
-            x = hi;
+        self.finite_terms += 1;
+        self.all_neg_zero &= bits == SIGN_BIT;
+        if bits & !SIGN_BIT == 0 {
+            return; // ±0 adds nothing (its sign is tracked above)
         }
-        self.partials.truncate(i);
-        self.partials.push(x);
+        if self.slow {
+            shewchuk_add(&mut self.partials, x);
+            return;
+        }
+        // x = ±m·2^(e−1075) exactly, m < 2^53.
+        let (m, e) = if e == 0 { (bits & FRAC_MASK, 1) } else { ((bits & FRAC_MASK) | IMPLICIT_BIT, e) };
+        let (base, top) = if self.n == 0 { (e, e) } else { (self.base.min(e), self.top.max(e)) };
+        if top - base > SPAN || self.n >= MAX_TERMS || base < MIN_EXP || top > MAX_EXP {
+            self.spill();
+            shewchuk_add(&mut self.partials, x);
+            return;
+        }
+        if base < self.base && self.n > 0 {
+            // A new smallest term: rescale. |acc| < n·2^(53+SPAN) still (see the module doc).
+            self.acc <<= self.base - base;
+        }
+        let v = (m as i128) << (e - base);
+        let neg = -((bits >> 63) as i128); // 0 or −1
+        self.acc += (v ^ neg) - neg;
+        self.base = base;
+        self.top = top;
+        self.n += 1;
+    }
+
+    /// Leave the fixed-point window: hand its exact value to the expansion. |acc| < 2^127
+    /// splits into three chunks of at most 43 bits, each exact in a double, and each
+    /// scaled exactly by a power of two ≥ 2^−1022 (base ≥ 53) into a normal number.
+    #[cold]
+    fn spill(&mut self) {
+        self.slow = true;
+        self.partials.clear();
+        if self.acc == 0 {
+            return;
+        }
+        let neg = self.acc < 0;
+        let a = self.acc.unsigned_abs();
+        const CHUNK: u32 = 43;
+        for k in 0..3 {
+            let c = ((a >> (CHUNK * k)) & ((1u128 << CHUNK) - 1)) as u64;
+            if c != 0 {
+                let v = c as f64 * pow2(self.base - 1075 + (CHUNK * k) as i32);
+                shewchuk_add(&mut self.partials, if neg { -v } else { v });
+            }
+        }
+        self.acc = 0;
     }
 
     /// The correctly rounded sum of all terms added so far.
@@ -74,36 +195,227 @@ impl ExactSum {
         if self.special != 0.0 || self.special.is_nan() {
             return self.special;
         }
-        let p = &self.partials[..];
-        let mut n = p.len();
-        if n == 0 {
-            return 0.0;
+        if self.slow {
+            return shewchuk_value(&self.partials);
         }
-        n -= 1;
-        let mut hi = p[n];
-        let mut lo = 0.0;
-        while n > 0 {
-            let x = hi;
-            n -= 1;
-            let y = p[n];
-            hi = x + y;
-            let yr = hi - x;
-            lo = y - yr;
-            if lo != 0.0 {
-                break;
-            }
+        if self.acc == 0 {
+            return if self.finite_terms > 0 && self.all_neg_zero { -0.0 } else { 0.0 };
         }
-        // Round half to even across the remaining partials.
-        if n > 0 && ((lo < 0.0 && p[n - 1] < 0.0) || (lo > 0.0 && p[n - 1] > 0.0)) {
-            let y = lo * 2.0;
-            let x = hi + y;
-            let yr = x - hi;
-            if y == yr {
-                hi = x;
-            }
-        }
-        hi
+        // Exact: see the module documentation.
+        (self.acc as f64) * pow2(self.base - 1075)
     }
+}
+
+/// Shewchuk's `grow_expansion` with zero elimination (Python's `msum`): add `x` to the
+/// non-overlapping partials, keeping their sum exact.
+fn shewchuk_add(partials: &mut Vec<f64>, mut x: f64) {
+    let mut i = 0;
+    for j in 0..partials.len() {
+        let mut y = partials[j];
+        if x.abs() < y.abs() {
+            std::mem::swap(&mut x, &mut y);
+        }
+        let hi = x + y;
+        let lo = y - (hi - x);
+        if lo != 0.0 {
+            partials[i] = lo;
+            i += 1;
+        }
+        x = hi;
+    }
+    partials.truncate(i);
+    partials.push(x);
+}
+
+/// The correctly rounded sum of non-overlapping partials (increasing magnitude), with
+/// `math.fsum`'s round-half-even correction.
+fn shewchuk_value(p: &[f64]) -> f64 {
+    let mut n = p.len();
+    if n == 0 {
+        return 0.0;
+    }
+    n -= 1;
+    let mut hi = p[n];
+    let mut lo = 0.0;
+    while n > 0 {
+        let x = hi;
+        n -= 1;
+        let y = p[n];
+        hi = x + y;
+        let yr = hi - x;
+        lo = y - yr;
+        if lo != 0.0 {
+            break;
+        }
+    }
+    // Round half to even across the remaining partials.
+    if n > 0 && ((lo < 0.0 && p[n - 1] < 0.0) || (lo > 0.0 && p[n - 1] > 0.0)) {
+        let y = lo * 2.0;
+        let x = hi + y;
+        let yr = x - hi;
+        if y == yr {
+            hi = x;
+        }
+    }
+    hi
+}
+
+/// Something that sums N quantities term by term (the N components a gather produces
+/// per particle/node pair): [`ExactSums`] (always correctly rounded) or [`FastSum`]
+/// (correctly rounded when it can prove it). The hot gathers are written once, generic
+/// over this trait, run with [`FastSum`], and rerun with [`ExactSums`] in the rare case
+/// that the fast sum cannot certify a result — so every result is the correctly rounded
+/// sum either way, to the bit.
+pub trait Accumulator<const N: usize>: Default {
+    fn add(&mut self, x: [f64; N]);
+    /// The correctly rounded sums, or None if this accumulator cannot guarantee them.
+    fn certified(&self) -> Option<[f64; N]>;
+}
+
+/// N independent [`ExactSum`]s.
+#[derive(Clone, Debug)]
+pub struct ExactSums<const N: usize>(pub [ExactSum; N]);
+
+impl<const N: usize> Default for ExactSums<N> {
+    fn default() -> Self {
+        ExactSums(std::array::from_fn(|_| ExactSum::new()))
+    }
+}
+
+impl<const N: usize> Accumulator<N> for ExactSums<N> {
+    #[inline]
+    fn add(&mut self, x: [f64; N]) {
+        for (s, x) in self.0.iter_mut().zip(x) {
+            s.add(x);
+        }
+    }
+    #[inline]
+    fn certified(&self) -> Option<[f64; N]> {
+        Some(std::array::from_fn(|k| self.0[k].value()))
+    }
+}
+
+/// A compensated sum that certifies correct rounding: the fast path of the gathers.
+///
+/// Per term, Knuth's TwoSum (error-free: s + x = s' + t exactly, for all finite inputs
+/// barring overflow, subnormals included) updates the running sum s and its error t; the
+/// errors are summed in plain floating point into c, Σ|x| into a, and the smallest |x|
+/// is kept in m: a dozen flops, no branches. Then the exact sum is
+/// T = s + Σt_i, and (Higham, Accuracy and Stability, §4.2 and §4.3, γ_k = ku/(1−ku),
+/// u = 2^−53):
+///
+/// * |t_i| ≤ u|s_i| and |s_i| ≤ (1+u)^i A with A = Σ|x_i|, so Σ|t_i| ≤ n u (1+u)^n A;
+/// * the recursive sum c of the t_i has |c − Σt_i| ≤ γ_{n−1} Σ|t_i|;
+/// * the computed a ≥ (1 − γ_{n−1}) A.
+///
+/// Hence for n ≤ 2^20 the error δ := |T − (s + c)| ≤ n² u² a (1 + 10⁻⁵) < 2 n² u² a, and
+/// the computed bound `db` = fl(n²·(2^−104·a)) ≥ 4n²u²a(1−u) > δ (n² and 2^−104·a are
+/// exact when a ≥ 2^−800, so there is one rounding). r = fl(s + c) is then certified to
+/// be the correctly rounded T in either of two ways:
+///
+/// 1. **δ = 0.** All terms, s, every t_i and every partial sum of c are multiples of
+///    q = the smallest ulp among the terms (a rounded sum of multiples of a power of two
+///    q is again one), so T − (s + c) is a multiple of q. With all terms normal, the
+///    smallest term's ulp exceeds m·2^−53, and ulps grow with magnitude, so q > m·2^−53.
+///    (A zero term gives m = 0 and this certificate is not used.)
+///    If db < m·2^−53 (exact, m ≥ 2^−900), then |T − (s + c)| < q forces T = s + c, and
+///    r = fl(s + c) is the correctly rounded T by IEEE addition itself — ties to even
+///    included, and an exact zero comes out +0 as it must with non-zero terms (c is never
+///    −0, so s + c is not −0 + −0). This covers the frequent exact ties of a few terms of
+///    similar size, and the exact cancellations of mirror-symmetric scenes.
+/// 2. **T is strictly nearer r than any other double.** With TwoSum once more,
+///    s + c = r + t₂ exactly, so |T − r| ≤ |t₂| + δ. If |r| ≥ 2^−900, its neighbours are
+///    U = ulp(r) away, or U/2 towards zero when |r| is a power of two; with h = U/2, or
+///    U/4 at a power of two, |T − r| < h is enough. The test `2·db < fl(h − |t₂|)`
+///    implies δ < h − |t₂| (the subtraction rounds up by at most a factor 1 + u).
+///
+/// Otherwise (None) the gather is redone with [`ExactSum`]: non-finite terms, Σ|x|
+/// outside [2^−800, 2^1000] (so nothing underflows or overflows), more than 2^20 terms,
+/// and sums that are both inexact at the last bit and within δ of a rounding boundary
+/// — rare unless the terms span more than ~10¹² in magnitude.
+///
+/// All-zero sums are certified: s starts at −0, so s is the IEEE sum of the zeros (−0
+/// only if every term is −0), as for [`ExactSum`]; no terms give +0.
+///
+/// The N lanes are independent sums sharing the term count; the lane-wise operations
+/// on `[f64; N]` let the compiler use SIMD registers for them.
+#[derive(Clone, Copy, Debug)]
+pub struct FastSum<const N: usize> {
+    s: [f64; N],
+    c: [f64; N],
+    a: [f64; N],
+    m: [f64; N],
+    n: u32,
+}
+
+impl<const N: usize> Default for FastSum<N> {
+    #[inline]
+    fn default() -> Self {
+        FastSum { s: [-0.0; N], c: [0.0; N], a: [0.0; N], m: [f64::INFINITY; N], n: 0 }
+    }
+}
+
+impl<const N: usize> Accumulator<N> for FastSum<N> {
+    #[inline(always)]
+    fn add(&mut self, x: [f64; N]) {
+        for k in 0..N {
+            let (s0, x) = (self.s[k], x[k]);
+            let s = s0 + x;
+            let bb = s - s0;
+            let t = (s0 - (s - bb)) + (x - bb);
+            self.s[k] = s;
+            self.c[k] += t;
+            let ax = x.abs();
+            self.a[k] += ax;
+            // A zero term makes m = 0, which only disables certificate 1 (one minpd).
+            if ax < self.m[k] {
+                self.m[k] = ax;
+            }
+        }
+        self.n += 1;
+    }
+
+    #[inline]
+    fn certified(&self) -> Option<[f64; N]> {
+        let mut out = [0.0; N];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = certify(self.s[k], self.c[k], self.a[k], self.m[k], self.n)?;
+        }
+        Some(out)
+    }
+}
+
+/// The certificate of [`FastSum`] for one lane (see there for the proof).
+#[inline]
+fn certify(s: f64, c: f64, a: f64, m: f64, n: u32) -> Option<f64> {
+    if n == 0 {
+        return Some(0.0);
+    }
+    if a == 0.0 {
+        return Some(s); // all terms ±0: the IEEE sum of the zeros
+    }
+    // Also rejects NaN and infinite a (non-finite terms).
+    if !(a >= pow2(-800) && a <= pow2(1000)) || n > 1 << 20 {
+        return None;
+    }
+    let nf = n as f64;
+    let db = nf * nf * (pow2(-104) * a);
+    let r = s + c;
+    // 1. δ = 0: r is the IEEE (correctly rounded) sum of the exact value s + c.
+    if m >= pow2(-900) && db < m * pow2(-53) {
+        return Some(r);
+    }
+    // 2. T strictly inside r's rounding interval.
+    let bb = r - s;
+    let t2 = (s - (r - bb)) + (c - bb);
+    let bits = r.to_bits() & !SIGN_BIT;
+    if bits < pow2(-900).to_bits() {
+        return None; // zero or tiny: leave it to the exact sum
+    }
+    // U = ulp(r) = 2^(k−52) for 2^k ≤ |r| < 2^(k+1); h = U/2, or U/4 at a power of two.
+    let k = (bits >> 52) as i32 - 1023;
+    let h = if bits & FRAC_MASK == 0 { pow2(k - 54) } else { pow2(k - 53) };
+    (2.0 * db < h - t2.abs()).then_some(r)
 }
 
 /// Correctly rounded sum of a slice.
@@ -124,6 +436,24 @@ pub fn sum_iter<I: IntoIterator<Item = f64>>(terms: I) -> f64 {
     s.value()
 }
 
+/// Correctly rounded sum of a cloneable iterator, the same bits as [`sum_iter`], faster:
+/// a [`FastSum`] pass, and an [`ExactSum`] pass over a second copy of the iterator only
+/// if the fast one cannot certify its result.
+pub fn sum_fast<I: Iterator<Item = f64> + Clone>(terms: I) -> f64 {
+    let mut fast = FastSum::<1>::default();
+    for t in terms.clone() {
+        fast.add([t]);
+    }
+    if let Some([v]) = fast.certified() {
+        return v;
+    }
+    let mut s = ExactSum::new();
+    for t in terms {
+        s.add(t);
+    }
+    s.value()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -136,11 +466,136 @@ mod tests {
         (m - 0.5) * 2f64.powi(e)
     }
 
+    fn next(seed: &mut u64) -> u64 {
+        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        *seed ^ (*seed >> 29)
+    }
+
+    /// A random double with a random significand, sign and biased exponent in `exps`.
+    fn random_double(seed: &mut u64, exps: std::ops::Range<u64>) -> f64 {
+        let r = next(seed);
+        let e = exps.start + (next(seed) % (exps.end - exps.start));
+        f64::from_bits((r & SIGN_BIT) | (e << 52) | (next(seed) & FRAC_MASK))
+    }
+
+    /// The summation cramp used before the fixed-point fast path (every finite term,
+    /// zeros included, through Shewchuk's expansion): the fast path must agree to the bit.
+    fn shewchuk_sum(terms: &[f64]) -> f64 {
+        let mut special = 0.0;
+        let mut partials = Vec::new();
+        for &t in terms {
+            if t.is_finite() {
+                shewchuk_add(&mut partials, t);
+            } else {
+                special += t;
+            }
+        }
+        if special != 0.0 || special.is_nan() {
+            return special;
+        }
+        shewchuk_value(&partials)
+    }
+
+    /// Independent reference: the exact sum in a 2240-bit two's-complement fixed-point
+    /// integer (bit 0 = 2^−1074, the ulp of every double), rounded to nearest, ties to
+    /// even, by hand. Finite terms only; the sign of an exact zero is not decided here.
+    fn reference_sum(terms: &[f64]) -> f64 {
+        const LIMBS: usize = 35;
+        let mut acc = [0u64; LIMBS];
+        for &t in terms {
+            assert!(t.is_finite());
+            let bits = t.to_bits();
+            let e = ((bits >> 52) & 0x7ff) as usize;
+            let m = if e == 0 { bits & FRAC_MASK } else { (bits & FRAC_MASK) | IMPLICIT_BIT };
+            let shift = e.max(1) - 1; // value = m·2^(shift) in units of 2^−1074
+            // term as a LIMBS-word integer
+            let mut w = [0u64; LIMBS];
+            let (q, r) = (shift / 64, shift % 64);
+            w[q] = m << r;
+            if r > 0 && q + 1 < LIMBS {
+                w[q + 1] = m >> (64 - r);
+            }
+            if bits & SIGN_BIT != 0 {
+                // two's complement negation
+                let mut carry = 1u64;
+                for x in w.iter_mut() {
+                    let (s, c) = (!*x).overflowing_add(carry);
+                    *x = s;
+                    carry = c as u64;
+                }
+            }
+            let mut carry = 0u64;
+            for k in 0..LIMBS {
+                let (s1, c1) = acc[k].overflowing_add(w[k]);
+                let (s2, c2) = s1.overflowing_add(carry);
+                acc[k] = s2;
+                carry = (c1 || c2) as u64;
+            }
+        }
+        let negative = acc[LIMBS - 1] >> 63 == 1;
+        if negative {
+            let mut carry = 1u64;
+            for x in acc.iter_mut() {
+                let (s, c) = (!*x).overflowing_add(carry);
+                *x = s;
+                carry = c as u64;
+            }
+        }
+        let bit = |i: usize| (acc[i / 64] >> (i % 64)) & 1;
+        let Some(h) = (0..LIMBS * 64).rev().find(|&i| bit(i) == 1) else { return 0.0 };
+        let magnitude = if h < 53 {
+            // Exactly representable: an integer < 2^53 times 2^−1074.
+            let q = (0..=h).fold(0u64, |q, i| q | (bit(i) << i));
+            q as f64 * f64::from_bits(1) // 2^−1074; the product is exact
+        } else {
+            let lsb = h - 52;
+            let mut q = (lsb..=h).fold(0u64, |q, i| q | (bit(i) << (i - lsb)));
+            let half = bit(lsb - 1) == 1;
+            let sticky = (0..lsb - 1).any(|i| bit(i) == 1);
+            if half && (sticky || q & 1 == 1) {
+                q += 1;
+            }
+            // q·2^(lsb−1074), q ≤ 2^53: exact (the result is normal, q·2^k is a double).
+            let k = lsb as i32 - 1074;
+            let (a, b) = (k / 2, k - k / 2);
+            q as f64 * 2f64.powi(a) * 2f64.powi(b)
+        };
+        if negative {
+            -magnitude
+        } else {
+            magnitude
+        }
+    }
+
+    /// New sum, old sum and the reference agree to the bit (zeros: the new and old sums
+    /// agree in sign, the reference in value); also for the reversed order.
+    fn check(terms: &[f64]) {
+        let new = sum(terms);
+        if let Some(f) = fast1(terms) {
+            assert_eq!(f.to_bits(), new.to_bits(), "certified fast sum {f:e} vs exact {new:e} for {terms:?}");
+        }
+        let old = shewchuk_sum(terms);
+        assert_eq!(new.to_bits(), old.to_bits(), "fast {new:e} vs expansion {old:e} for {terms:?}");
+        let mut rev = terms.to_vec();
+        rev.reverse();
+        assert_eq!(sum(&rev).to_bits(), new.to_bits(), "order dependence for {terms:?}");
+        if terms.iter().all(|t| t.is_finite()) {
+            let r = reference_sum(terms);
+            assert_eq!(new, r, "fast {new:e} vs reference {r:e} for {terms:?}");
+            assert_eq!(new.to_bits() & !SIGN_BIT == 0, r == 0.0);
+            if new != 0.0 {
+                assert_eq!(new.to_bits(), r.to_bits());
+            }
+        }
+    }
+
     #[test]
     fn catastrophic_cancellation_is_exact() {
         assert_eq!(sum(&[1e100, 1.0, -1e100]), 1.0);
         assert_eq!(sum(&[0.1, 0.2, -0.3]), 2.7755575615628914e-17); // exact value of the doubles
         assert_eq!(sum(&[]), 0.0);
+        check(&[1e100, 1.0, -1e100]);
+        check(&[0.1, 0.2, -0.3]);
     }
 
     #[test]
@@ -183,6 +638,114 @@ mod tests {
     }
 
     #[test]
+    fn random_terms_in_the_fixed_point_window_match_the_reference() {
+        // Node-sum-like: 1 to 40 terms within 60 binades of each other, random signs.
+        let mut seed = 2024;
+        for case in 0..20_000 {
+            let n = 1 + (next(&mut seed) % 40) as usize;
+            let lo = 900 + next(&mut seed) % 200;
+            let terms: Vec<f64> = (0..n).map(|_| random_double(&mut seed, lo..lo + 60)).collect();
+            check(&terms);
+            if case % 4 == 0 {
+                // and with exact cancellation of a random subset
+                let mut t = terms.clone();
+                t.extend(terms.iter().step_by(2).map(|x| -x));
+                check(&t);
+            }
+        }
+    }
+
+    #[test]
+    fn random_terms_over_many_binades_match_the_reference() {
+        // Exponents anywhere from the subnormals to 2^1000: exercises the fallback and the switch.
+        let mut seed = 99;
+        for _ in 0..5_000 {
+            let n = 1 + (next(&mut seed) % 30) as usize;
+            let a = next(&mut seed) % 2000;
+            let b = (a + 1 + next(&mut seed) % 300).min(2023);
+            let terms: Vec<f64> = (0..n).map(|_| random_double(&mut seed, a..b)).collect();
+            check(&terms);
+        }
+    }
+
+    #[test]
+    fn cancellation_leaving_a_tiny_remainder() {
+        let mut seed = 5;
+        for _ in 0..2_000 {
+            let big = random_double(&mut seed, 1000..1100);
+            let small = random_double(&mut seed, 900..1060);
+            let other = random_double(&mut seed, 950..1050);
+            check(&[big, other, small, -big, -other]);
+            check(&[big, -big]);
+            check(&[big, small, -big, -small]);
+        }
+    }
+
+    #[test]
+    fn ties_round_to_even_at_many_exponents() {
+        let mut seed = 17;
+        for k in (-1000..1000).step_by(7) {
+            let one = 2f64.powi(k);
+            let half_ulp = 2f64.powi(k - 53);
+            // exactly half way: to even (down from an even significand, up from an odd one)
+            check(&[one, half_ulp]);
+            check(&[one + 2.0 * half_ulp, half_ulp]);
+            check(&[-one, -half_ulp]);
+            // half way plus or minus a tiny amount, which must break the tie
+            let tiny = half_ulp * 2f64.powi(-40);
+            check(&[one, half_ulp, tiny]);
+            check(&[one, half_ulp, -tiny]);
+            check(&[one + 2.0 * half_ulp, half_ulp, -tiny]);
+            // random significands split into a tie
+            let x = random_double(&mut seed, 1000..1040);
+            let h = f64::from_bits(x.to_bits() & (0xfff << 52)) * 2f64.powi(-53);
+            check(&[x, h]);
+            check(&[x, h, -h * 2f64.powi(-30)]);
+        }
+        assert_eq!(sum(&[1.0, 2f64.powi(-53)]), 1.0);
+        assert_eq!(sum(&[1.0, 2f64.powi(-53), 2f64.powi(-100)]), 1.0 + f64::EPSILON);
+    }
+
+    #[test]
+    fn subnormal_and_tiny_terms() {
+        let mut seed = 23;
+        for _ in 0..2_000 {
+            let n = 1 + (next(&mut seed) % 10) as usize;
+            let terms: Vec<f64> = (0..n).map(|_| random_double(&mut seed, 0..80)).collect();
+            check(&terms);
+        }
+        check(&[f64::from_bits(1), f64::from_bits(1), -f64::from_bits(3)]);
+        check(&[f64::MIN_POSITIVE, -f64::from_bits(1)]);
+    }
+
+    #[test]
+    fn signed_zeros_follow_ieee_addition() {
+        assert_eq!(sum(&[-0.0]).to_bits(), (-0.0f64).to_bits());
+        assert_eq!(sum(&[-0.0, -0.0]).to_bits(), (-0.0f64).to_bits());
+        assert_eq!(sum(&[-0.0, 0.0]).to_bits(), 0);
+        assert_eq!(sum(&[1.5, -0.0, -1.5]).to_bits(), 0);
+        assert_eq!(sum(&[-1.5, 1.5, -0.0]).to_bits(), 0);
+        for t in [&[-0.0][..], &[-0.0, -0.0], &[0.0, -0.0], &[-0.0, 0.0], &[2.0, -2.0, -0.0], &[-0.0, 1e-300, -1e-300], &[]] {
+            check(t);
+        }
+    }
+
+    #[test]
+    fn many_terms_leave_the_window_exactly() {
+        // More than MAX_TERMS terms, and a span that grows past SPAN after many terms.
+        let mut seed = 31;
+        let terms: Vec<f64> = (0..3000).map(|_| random_double(&mut seed, 1000..1050)).collect();
+        check(&terms);
+        let mut t: Vec<f64> = (0..500).map(|_| random_double(&mut seed, 1000..1060)).collect();
+        t.push(random_double(&mut seed, 1200..1201));
+        t.extend((0..500).map(|_| random_double(&mut seed, 1000..1060)));
+        check(&t);
+        let mut t: Vec<f64> = (0..500).map(|_| random_double(&mut seed, 1000..1060)).collect();
+        t.push(random_double(&mut seed, 800..801));
+        check(&t);
+    }
+
+    #[test]
     fn terms_over_many_binades_need_many_partials() {
         // Found by the impact test: geometrically decaying terms need > 64 partials.
         let mut s = ExactSum::new();
@@ -194,12 +757,104 @@ mod tests {
         terms.reverse();
         assert_eq!(s.value().to_bits(), sum(&terms).to_bits());
         assert_eq!(s.value(), 1.5); // Σ 3^-k = 1.5 to within far less than an ulp
+        check(&terms);
+    }
+
+    /// The one-lane fast sum, if certified.
+    fn fast1(terms: &[f64]) -> Option<f64> {
+        let mut f = FastSum::<1>::default();
+        terms.iter().for_each(|&t| f.add([t]));
+        f.certified().map(|v| v[0])
+    }
+
+    /// Fraction of sums the fast path certifies.
+    fn certified_fraction(cases: &[Vec<f64>]) -> f64 {
+        let ok = cases
+            .iter()
+            .filter(|t| fast1(t).is_some())
+            .count();
+        ok as f64 / cases.len() as f64
+    }
+
+    #[test]
+    fn fast_sum_certifies_ordinary_sums_and_never_a_wrong_one() {
+        let mut seed = 77;
+        // Node-sum-like terms without systematic cancellation: nearly always certified.
+        let cases: Vec<Vec<f64>> = (0..20_000)
+            .map(|_| {
+                let n = 1 + (next(&mut seed) % 40) as usize;
+                (0..n).map(|_| random_double(&mut seed, 1000..1030)).collect()
+            })
+            .collect();
+        for t in &cases {
+            check(t);
+        }
+        let f = certified_fraction(&cases);
+        assert!(f > 0.99, "certified only {f}"); // measured 0.998 (random signs: some cancel)
+        // Near-ties: one term exactly half an ulp of another, nudged by ±2^-k: the fast
+        // path must either decline or agree with the exact sum (check() asserts it).
+        for k in 0..120 {
+            for sign in [1.0, -1.0] {
+                let one = 1.0 + 2f64.powi(-20);
+                let half = 2f64.powi(-53);
+                check(&[one, half, sign * 2f64.powi(-53 - k)]);
+                check(&[one, half * 3.0, sign * 2f64.powi(-53 - k), 0.25, -0.25]);
+                check(&[1.0, -half / 2.0, sign * 2f64.powi(-55 - k)]); // power of two, towards zero
+            }
+        }
+        // Exact cancellation and exact ties of few terms are certified (δ = 0), with IEEE
+        // signs; all-zero sums too.
+        assert_eq!(fast1(&[1.5, -1.5]).map(f64::to_bits), Some(0));
+        assert_eq!(fast1(&[1.5, -1.5, -0.0]), None); // a zero term disables certificate 1
+        for t in [[1.0 + f64::EPSILON, 1.0], [1.0 + 3.0 * f64::EPSILON, 1.0], [-3.0, -(1.0 + f64::EPSILON)]] {
+            assert_ne!((t[0] + t[1]) - t[0], t[1], "a tie: the plain sum rounds");
+            assert_eq!(fast1(&t).map(f64::to_bits), Some(sum(&t).to_bits()), "{t:?}");
+        }
+        // Two terms of similar size: half of their exact sums are ties; all certified.
+        let pairs: Vec<Vec<f64>> = (0..10_000).map(|_| vec![random_double(&mut seed, 1020..1022), random_double(&mut seed, 1020..1022)]).collect();
+        pairs.iter().for_each(|t| check(t));
+        assert_eq!(certified_fraction(&pairs), 1.0);
+        // A term far below the others defeats both certificates only near a tie.
+        for k in [60, 80, 200] {
+            check(&[1.0, 2f64.powi(-53), 2f64.powi(-k)]);
+            check(&[1.0, 2f64.powi(-53), -(2f64.powi(-k))]);
+        }
+        assert_eq!(fast1(&[-0.0, -0.0]).map(f64::to_bits), Some((-0.0f64).to_bits()));
+        assert_eq!(fast1(&[]).map(f64::to_bits), Some(0));
+        // Lanes are independent.
+        let mut f = FastSum::<3>::default();
+        for t in [[1.0, -0.0, 0.1], [2f64.powi(-30), -0.0, 0.2], [-0.5, -0.0, 0.3]] {
+            f.add(t);
+        }
+        let v = f.certified().unwrap();
+        assert_eq!(v.map(f64::to_bits), [sum(&[1.0, 2f64.powi(-30), -0.5]), -0.0, sum(&[0.1, 0.2, 0.3])].map(f64::to_bits));
+        // ... and one lane that cannot be certified (cancellation to 2^-61 of the terms) fails the whole.
+        let mut f = FastSum::<2>::default();
+        for t in [[1.0, 1.0], [2f64.powi(-60), 1.0], [-1.0, 1.0]] {
+            f.add(t);
+        }
+        assert_eq!(f.certified(), None);
+    }
+
+    #[test]
+    fn clear_returns_to_the_fast_path() {
+        let mut s = ExactSum::new();
+        s.add(1.0);
+        s.add(1e-300);
+        assert!(s.slow);
+        s.clear();
+        s.add(0.25);
+        s.add(0.5);
+        assert!(!s.slow);
+        assert_eq!(s.value(), 0.75);
     }
 
     #[test]
     fn non_finite_terms_poison_the_sum() {
         assert!(sum(&[1.0, f64::NAN, 2.0]).is_nan());
         assert_eq!(sum(&[1.0, f64::INFINITY]), f64::INFINITY);
+        assert!(sum(&[f64::INFINITY, 1.0, f64::NEG_INFINITY]).is_nan());
+        check(&[1.0, f64::NEG_INFINITY, 1e-300]);
     }
 
     #[test]

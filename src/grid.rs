@@ -103,7 +103,8 @@ pub struct Nodes {
     pub fields: Vec<FieldArrays>,
     /// Bit set per node of which fields are present (ϕ_{i,j} of eq. 32).
     pub present: Vec<u8>,
-    /// Total nodal volume (eq. 27), only filled when the scene has cracks (contact uses it).
+    /// Total nodal volume (eq. 27), only with cracks and only at the nodes a crack splits
+    /// this step (NaN at the others): contact reads it only at nodes with two fields.
     pub volume: Vec<f64>,
     /// Average crack normal per node (from above to below), only with cracks.
     pub normal: Vec<Vector>,
@@ -127,7 +128,7 @@ impl Nodes {
     }
 
     /// Every (field, node) in use this step: active nodes in ascending order, fields in order.
-    pub fn present_fields(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+    pub fn present_fields(&self) -> impl Iterator<Item = (usize, usize)> + Clone + '_ {
         self.active.iter().flat_map(move |&node| {
             let i = node as usize;
             (0..self.fields.len()).filter(move |&f| self.present[i] & (1 << f) != 0).map(move |f| (f, i))

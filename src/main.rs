@@ -33,6 +33,10 @@ enum Command {
         /// Switch the invariant checks off for speed (overrides solver.checked).
         #[arg(long)]
         unchecked: bool,
+        /// Worker threads (default: all cores, or RAYON_NUM_THREADS). Results are
+        /// bit-identical for any number.
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        threads: Option<u32>,
     },
     /// Run the verification cases: a table on stdout, reports/index.md with plots,
     /// reports/results.json; exit status 1 if any case fails.
@@ -82,7 +86,7 @@ const EXIT_BAD_INPUT: u8 = 2;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Some(Command::Run { scene, out, unchecked }) => run(scene, out, unchecked).map(|()| ExitCode::SUCCESS),
+        Some(Command::Run { scene, out, unchecked, threads }) => set_threads(threads).and_then(|()| run(scene, out, unchecked)).map(|()| ExitCode::SUCCESS),
         Some(Command::Fea { scene, out }) => fea(scene, out).map(|()| ExitCode::SUCCESS),
         Some(Command::Demo) => run_demo().map(|()| ExitCode::SUCCESS),
         Some(Command::Verify { quick, out, list, cases }) => {
@@ -158,6 +162,14 @@ fn run_verify(variant: Variant, out: &Path, names: &[String]) -> anyhow::Result<
     }
 }
 
+/// Size the global thread pool (before any parallel work).
+fn set_threads(threads: Option<u32>) -> anyhow::Result<()> {
+    if let Some(n) = threads {
+        rayon::ThreadPoolBuilder::new().num_threads(n as usize).build_global()?;
+    }
+    Ok(())
+}
+
 fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool) -> anyhow::Result<()> {
     let scene = Scene::from_file(&scene_path)?;
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
@@ -185,7 +197,7 @@ fn execute(scene: &Scene, out: PathBuf, unchecked: bool) -> anyhow::Result<()> {
     let s = &r.summary;
     let e = &s.final_energies;
     println!(
-        "{}: {} particles, {} steps of dt = {:.4e} to t = {:.4e} in {:.3} s ({:.3e} particle-steps/s{})",
+        "{}: {} particles, {} steps of dt = {:.4e} to t = {:.4e} in {:.3} s ({:.3e} particle-steps/s, {} thread{}{})",
         if scene.title.is_empty() { "scene" } else { &scene.title },
         s.particles,
         s.steps,
@@ -193,6 +205,8 @@ fn execute(scene: &Scene, out: PathBuf, unchecked: bool) -> anyhow::Result<()> {
         s.end_time,
         s.wall_time_s,
         s.particle_steps_per_second,
+        s.threads,
+        if s.threads == 1 { "" } else { "s" },
         if s.checked { ", checked" } else { "" }
     );
     println!(

@@ -73,11 +73,25 @@ fn ugimp_1d(xi: f64, h: f64, lp: f64) -> (f64, f64) {
 /// (0 for linear, lp for uGIMP).
 #[inline]
 fn node_range(x: f64, x0: f64, h: f64, reach: f64, n_cells: usize) -> (isize, usize) {
-    let lo = ((x - reach - x0) / h).floor() as isize;
-    let hi = ((x + reach - x0) / h).floor() as isize + 1;
+    let lo = floor_to_isize((x - reach - x0) / h);
+    let hi = floor_to_isize((x + reach - x0) / h) + 1;
     let lo = lo.max(0);
     let hi = hi.min(n_cells as isize);
     (lo, (hi - lo + 1).max(0) as usize)
+}
+
+/// ⌊v⌋ as an integer, the same as `v.floor() as isize` for every v (NaN gives 0, and
+/// values beyond ±2^63 saturate, as the cast does), without the call to libm's software
+/// `floor` that the baseline x86-64 target needs: truncate, then step down for a negative
+/// non-integer.
+#[inline]
+fn floor_to_isize(v: f64) -> isize {
+    let t = v as isize;
+    if (t as f64) > v && t != isize::MIN {
+        t - 1
+    } else {
+        t
+    }
 }
 
 /// The non-zero 1D weights (value, derivative) along one axis and their node indices;
@@ -182,6 +196,17 @@ mod tests {
                 assert!((dx - w.g[k].x).abs() < 1e-6 && (dy - w.g[k].y).abs() < 1e-6);
             }
         }
+    }
+
+    #[test]
+    fn integer_floor_matches_floor() {
+        let cases = [0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.9999999999999996, -2.0000000000000004, 1e15 + 0.5, -1e15 - 0.5, 4503599627370497.0, -7.25, 1e-300, -1e-300];
+        for v in cases {
+            assert_eq!(floor_to_isize(v), v.floor() as isize, "{v}");
+        }
+        assert_eq!(floor_to_isize(f64::NAN), f64::NAN.floor() as isize);
+        assert_eq!(floor_to_isize(1e300), 1e300f64.floor() as isize);
+        assert_eq!(floor_to_isize(-1e300), (-1e300f64).floor() as isize);
     }
 
     #[test]

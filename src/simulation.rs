@@ -4,7 +4,7 @@
 use crate::check::CheckError;
 use crate::crack::{Crack, CrackMethod};
 use crate::dim::Vector;
-use crate::exact::{self, ExactSum};
+use crate::exact;
 use crate::grid::{Grid, Nodes};
 use crate::material::{Constitutive, LinearElastic};
 use crate::particles::{Particles, NO_LOAD};
@@ -139,6 +139,19 @@ impl Pairs {
             fill: Vec::with_capacity(nn),
         }
     }
+
+    /// Pair indices of node `i` (after the CSR build of Task 1).
+    #[inline]
+    pub fn of_node(&self, i: usize) -> &[u32] {
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    /// Pair indices of particle `p`.
+    #[inline]
+    pub fn of_particle(&self, p: usize) -> std::ops::Range<usize> {
+        let base = p * MAX_NODES;
+        base..base + self.count[p] as usize
+    }
 }
 
 /// One MPM analysis: everything the time step reads and writes.
@@ -157,6 +170,8 @@ pub struct Simulation {
     pub options: Options,
     pub nodes: Nodes,
     pub pairs: Pairs,
+    /// Buffers of the parallel gathers, kept across steps.
+    pub scratch: crate::step::Scratch,
     pub time: f64,
     pub step_count: u64,
     /// Accumulated external work and damping (kinetic and strain are computed on demand).
@@ -205,6 +220,7 @@ impl Simulation {
             options,
             nodes,
             pairs: Pairs::with_capacity(np, nn),
+            scratch: Default::default(),
             time: 0.0,
             step_count: 0,
             work: Energies::default(),
@@ -235,24 +251,19 @@ impl Simulation {
     /// Total particle momentum, summed exactly.
     pub fn total_momentum(&self) -> Vector {
         let p = &self.particles;
-        Vector::new(
-            exact::sum_iter((0..p.len()).map(|i| p.mass[i] * p.v[i].x)),
-            exact::sum_iter((0..p.len()).map(|i| p.mass[i] * p.v[i].y)),
-        )
+        Vector::new(exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].x)), exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].y)))
     }
 
     /// Kinetic and strain energy now, with the accumulated external work and damping.
     /// Sums are exact, so the values do not depend on particle order.
     pub fn energies(&self) -> Energies {
         let p = &self.particles;
-        let mut ke = ExactSum::new();
-        let mut se = ExactSum::new();
-        for i in 0..p.len() {
-            ke.add(0.5 * p.mass[i] * p.v[i].norm_squared());
+        let kinetic = exact::sum_fast((0..p.len()).map(|i| 0.5 * p.mass[i] * p.v[i].norm_squared()));
+        let strain = exact::sum_fast((0..p.len()).map(|i| {
             let m = &self.materials[p.material[i] as usize];
-            se.add(p.vol0[i] * m.energy_density(&p.strain[i], &p.stress[i]));
-        }
-        Energies { kinetic: ke.value(), strain: se.value(), ..self.work }
+            p.vol0[i] * m.energy_density(&p.strain[i], &p.stress[i])
+        }));
+        Energies { kinetic, strain, ..self.work }
     }
 
     /// Set each particle's applied force for time t.

@@ -1,16 +1,31 @@
 //! One MPM step, written as the appendix of Nairn 2003 lists it: one function per task.
 //!
 //! Every particle-to-node sum is a gather over the node's particle/node pairs (CSR built
-//! in Task 1) accumulated with [`ExactSum`], and every node-to-particle sum is exact too,
-//! so a step's result does not depend on particle order, thread count, or — for a scene
-//! symmetric about a grid line — on which side of the mirror a particle is.
+//! in Task 1), and every node-to-particle sum runs over the particle's pairs; each is
+//! correctly rounded, so a step's result does not depend on particle order, thread count,
+//! or — for a scene symmetric about a grid line — on which side of the mirror a particle
+//! is.
+//!
+//! Speed (issue 6), without changing a bit:
+//! * the sums are computed with [`FastSum`], which certifies correct rounding, and redone
+//!   with [`ExactSums`] in the rare case it cannot (see `fast_or_exact` and `exact.rs`);
+//! * per-node and per-particle work runs in parallel with rayon: each node's or
+//!   particle's sums are independent, results are collected in index order into buffers
+//!   kept across steps ([`Scratch`]), and stored serially;
+//! * without cracks, and at the nodes no crack splits, the gathers are compiled without
+//!   velocity-field look-ups (`const` generics);
+//! * invariant checks run only in checked mode; energies only at history rows.
 
 use crate::check::{CheckError, MASS_TOL, MOMENTUM_TOL, PARTITION_TOL};
 use crate::dim::{Sym, Tensor, Vector};
-use crate::exact::ExactSum;
+use crate::exact::{Accumulator, ExactSum, ExactSums, FastSum};
+use crate::grid::{Grid, MAX_FIELDS};
 use crate::material::Constitutive;
+use crate::particles::NO_LOAD;
 use crate::shape::{self, ShapeKind, MAX_NODES};
 use crate::simulation::{Scheme, Simulation};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 impl Simulation {
     /// Advance one time step (Tasks 0–8).
@@ -20,6 +35,7 @@ impl Simulation {
         // Steps are numbered from 1; every check inside this step reports this number.
         self.step_count += 1;
         self.apply_loads(self.time);
+        self.collect_forced_particles();
         if self.options.checked && self.momentum_conserving {
             self.momentum_ref = self.total_momentum();
         }
@@ -64,59 +80,72 @@ impl Simulation {
 
     /// Task 0: shape functions and gradients at the particle positions (eq. 24), stored
     /// per particle/node pair. A particle outside the grid always stops the run.
+    ///
+    /// In parallel over particles: each particle writes only its own stride of the pair
+    /// arrays. A failing particle is reported by the lowest index, as a serial loop would.
     fn task0_shape_functions(&mut self) -> Result<(), CheckError> {
         let grid = &self.grid;
         let kind = self.options.shape;
         let checked = self.options.checked;
-        let step = self.step_count;
         let p = &self.particles;
         let pairs = &mut self.pairs;
-        let lo = grid.origin;
-        let hi = grid.max_corner();
-        for i in 0..p.len() {
-            let x = p.x[i];
-            let margin = match kind {
-                ShapeKind::Linear => Vector::zeros(),
-                ShapeKind::Ugimp => p.lp[i],
-            };
-            let inside = x.x - margin.x >= lo.x
-                && x.x + margin.x <= hi.x
-                && x.y - margin.y >= lo.y
-                && x.y + margin.y <= hi.y;
-            if !inside {
-                return Err(CheckError::OutsideGrid {
-                    step,
-                    particle: i,
-                    id: p.id[i],
-                    x: x.x,
-                    y: x.y,
-                    xmin: lo.x,
-                    xmax: hi.x,
-                    ymin: lo.y,
-                    ymax: hi.y,
-                });
-            }
-            let w = shape::weights(grid, kind, &x, &p.lp[i]);
-            let base = i * MAX_NODES;
-            pairs.count[i] = w.n as u8;
-            pairs.node[base..base + w.n].copy_from_slice(&w.node[..w.n]);
-            pairs.s[base..base + w.n].copy_from_slice(&w.s[..w.n]);
-            pairs.g[base..base + w.n].copy_from_slice(&w.g[..w.n]);
-            if checked {
-                let sum_s = crate::exact::sum(&w.s[..w.n]);
-                let gx = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.x));
-                let gy = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.y));
-                let gtol = PARTITION_TOL / grid.min_h();
-                if (sum_s - 1.0).abs() > PARTITION_TOL || gx.abs() > gtol || gy.abs() > gtol {
-                    return Err(CheckError::PartitionOfUnity { step, particle: i, id: p.id[i], sum_s, gx, gy });
+        let first_bad = (
+            pairs.count.par_iter_mut(),
+            pairs.node.par_chunks_mut(MAX_NODES),
+            pairs.s.par_chunks_mut(MAX_NODES),
+            pairs.g.par_chunks_mut(MAX_NODES),
+        )
+            .into_par_iter()
+            .with_min_len(PARTICLE_CHUNK)
+            .enumerate()
+            .filter_map(|(i, (count, node, s, g))| {
+                if !inside_grid(grid, kind, &p.x[i], &p.lp[i]) {
+                    return Some(i);
                 }
-            }
+                let w = shape::weights(grid, kind, &p.x[i], &p.lp[i]);
+                *count = w.n as u8;
+                node[..w.n].copy_from_slice(&w.node[..w.n]);
+                s[..w.n].copy_from_slice(&w.s[..w.n]);
+                g[..w.n].copy_from_slice(&w.g[..w.n]);
+                (checked && partition_of_unity_error(grid, &w).is_some()).then_some(i)
+            })
+            .min();
+        match first_bad {
+            None => Ok(()),
+            Some(i) => Err(self.task0_error(i)),
         }
-        Ok(())
+    }
+
+    /// The error for particle `i`, which failed Task 0: outside the grid, or (checked
+    /// mode) a broken partition of unity.
+    #[cold]
+    fn task0_error(&self, i: usize) -> CheckError {
+        let (grid, p, kind, step) = (&self.grid, &self.particles, self.options.shape, self.step_count);
+        let x = p.x[i];
+        if !inside_grid(grid, kind, &x, &p.lp[i]) {
+            let (lo, hi) = (grid.origin, grid.max_corner());
+            return CheckError::OutsideGrid {
+                step,
+                particle: i,
+                id: p.id[i],
+                x: x.x,
+                y: x.y,
+                xmin: lo.x,
+                xmax: hi.x,
+                ymin: lo.y,
+                ymax: hi.y,
+            };
+        }
+        let w = shape::weights(grid, kind, &x, &p.lp[i]);
+        let (sum_s, gx, gy) = partition_of_unity_error(grid, &w).expect("task 0 reported this particle");
+        CheckError::PartitionOfUnity { step, particle: i, id: p.id[i], sum_s, gx, gy }
     }
 
     /// Task 1: velocity field of every particle/node pair (line crossing, cracks only),
     /// then nodal masses and momenta per field (eq. 26) and, with cracks, nodal volumes (eq. 27).
+    ///
+    /// Each node's sums are a gather over its pairs, independent of every other node's:
+    /// computed in parallel over the active nodes, then stored in node order.
     fn task1_extrapolate(&mut self) -> Result<(), CheckError> {
         if self.has_cracks() {
             self.task1_cracks()?;
@@ -125,44 +154,41 @@ impl Simulation {
 
         let with_cracks = self.has_cracks();
         let nf = self.nodes.fields.len();
-        let p = &self.particles;
-        let pairs = &self.pairs;
-        let thickness = &self.thickness;
+        if with_cracks {
+            // Current area of each particle (eq. 25 per unit thickness), once per particle
+            // rather than once per pair.
+            let (p, thickness) = (&self.particles, &self.thickness);
+            (0..p.len())
+                .into_par_iter()
+                .with_min_len(PARTICLE_CHUNK)
+                .map(|i| p.volume(i) / thickness[p.body[i] as usize])
+                .collect_into_vec(&mut self.scratch.area);
+        }
+        let mut sums = std::mem::take(&mut self.scratch.mass);
+        let this = &*self;
+        this.nodes
+            .active
+            .par_iter()
+            .with_min_len(NODE_CHUNK)
+            .map(|&node| match (with_cracks, this.is_split(node)) {
+                (false, _) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
+                (true, false) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
+                (true, true) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, true, true>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, true, true>(node)),
+            })
+            .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
-        let mut acc = [[ExactSum::new(), ExactSum::new(), ExactSum::new()], [ExactSum::new(), ExactSum::new(), ExactSum::new()], [ExactSum::new(), ExactSum::new(), ExactSum::new()]];
-        let mut vol = ExactSum::new();
-        for &node in &nodes.active {
+        for (&node, g) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
-            for a in acc.iter_mut().take(nf) {
-                a.iter_mut().for_each(ExactSum::clear);
-            }
-            vol.clear();
-            let mut present = 0u8;
-            for &item in &pairs.items[pairs.start[i] as usize..pairs.start[i + 1] as usize] {
-                let item = item as usize;
-                let pp = item / MAX_NODES;
-                let f = pairs.field[item] as usize;
-                let s = pairs.s[item];
-                let m = p.mass[pp];
-                present |= 1 << f;
-                acc[f][0].add(m * s);
-                acc[f][1].add(m * p.v[pp].x * s);
-                acc[f][2].add(m * p.v[pp].y * s);
-                if with_cracks {
-                    // Nodal area (eq. 27 per unit thickness), compared with the cell area.
-                    vol.add(p.volume(pp) / thickness[p.body[pp] as usize] * s);
-                }
-            }
-            nodes.present[i] = present;
-            for (f, a) in acc.iter().enumerate().take(nf) {
-                let fa = &mut nodes.fields[f];
-                fa.mass[i] = a[0].value();
-                fa.mom[i] = Vector::new(a[1].value(), a[2].value());
+            nodes.present[i] = g.present;
+            for (f, fa) in nodes.fields.iter_mut().enumerate().take(nf) {
+                fa.mass[i] = g.mass[f];
+                fa.mom[i] = g.mom[f];
             }
             if with_cracks {
-                nodes.volume[i] = vol.value();
+                nodes.volume[i] = g.volume;
             }
         }
+        self.scratch.mass = sums;
         if with_cracks {
             self.finish_crack_nodes()?;
         }
@@ -174,40 +200,67 @@ impl Simulation {
 
     /// Build the node → pair incidence (CSR) by a counting sort over the pairs, and the
     /// list of active nodes. Only nodes that some particle touches are visited afterwards.
+    ///
+    /// In parallel, with the serial result: the particles are split into contiguous
+    /// chunks (one per thread) that count their pairs per node; a serial prefix sum over
+    /// the nodes gives every (node, chunk) its own slots, chunk after chunk, so a node's
+    /// pairs stay in particle order; then each chunk writes its pairs into its slots
+    /// (through atomic cells, as the slots of different chunks interleave) and the slots
+    /// are copied into `items`.
     fn build_node_incidence(&mut self) {
         let np = self.particles.len();
         let nn = self.grid.num_nodes();
-        let pairs = &mut self.pairs;
         // Last step's present bits are stale only on last step's active nodes.
         for &i in &self.nodes.active {
             self.nodes.present[i as usize] = 0;
         }
-        // Count pairs per node (start[i+1]), list the active nodes, prefix-sum into offsets.
-        pairs.start.fill(0);
-        for i in 0..np {
-            let base = i * MAX_NODES;
-            for k in 0..pairs.count[i] as usize {
-                pairs.start[pairs.node[base + k] as usize + 1] += 1;
+        let chunks = rayon::current_num_threads().clamp(1, np.div_ceil(4096).max(1));
+        let per_chunk = np.div_ceil(chunks).max(1);
+        let pairs = &mut self.pairs;
+        let scratch = &mut self.scratch;
+        scratch.chunk_counts.resize_with(chunks, Vec::new);
+        let (count, node) = (&pairs.count, &pairs.node);
+        let chunk_pairs = |c: usize| {
+            (c * per_chunk..((c + 1) * per_chunk).min(np)).flat_map(move |i| (i * MAX_NODES..i * MAX_NODES + count[i] as usize).map(move |k| (k, node[k] as usize)))
+        };
+        // Pairs per node, per chunk.
+        scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, counts)| {
+            counts.clear();
+            counts.resize(nn, 0);
+            for (_, n) in chunk_pairs(c) {
+                counts[n] += 1;
             }
-        }
+        });
+        // Offsets: node i's pairs are items[start[i]..start[i+1]], chunk by chunk; the
+        // counts become each chunk's write cursors.
         self.nodes.active.clear();
+        pairs.start[0] = 0;
+        let mut total = 0u32;
         for i in 0..nn {
-            if pairs.start[i + 1] > 0 {
+            let begin = total;
+            for counts in scratch.chunk_counts.iter_mut() {
+                let n = counts[i];
+                counts[i] = total;
+                total += n;
+            }
+            pairs.start[i + 1] = total;
+            if total > begin {
                 self.nodes.active.push(i as u32);
             }
-            pairs.start[i + 1] += pairs.start[i];
         }
-        pairs.items.resize(pairs.start[nn] as usize, 0);
-        pairs.fill.clear();
-        pairs.fill.extend_from_slice(&pairs.start[..nn]);
-        for i in 0..np {
-            let base = i * MAX_NODES;
-            for k in 0..pairs.count[i] as usize {
-                let node = pairs.node[base + k] as usize;
-                pairs.items[pairs.fill[node] as usize] = (base + k) as u32;
-                pairs.fill[node] += 1;
+        let total = total as usize;
+        if scratch.slots.len() < total {
+            scratch.slots.resize_with(total, || AtomicU32::new(0));
+        }
+        let slots = &scratch.slots;
+        scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, cursor)| {
+            for (k, n) in chunk_pairs(c) {
+                slots[cursor[n] as usize].store(k as u32, Ordering::Relaxed);
+                cursor[n] += 1;
             }
-        }
+        });
+        pairs.items.resize(total, 0);
+        pairs.items.par_iter_mut().zip(&slots[..total]).with_min_len(4096).for_each(|(item, slot)| *item = slot.load(Ordering::Relaxed));
     }
 
     /// Task 2: boundary conditions on the nodal momenta of Task 1 (and, with cracks, contact).
@@ -253,79 +306,65 @@ impl Simulation {
     /// Stress and strain update (appendix, "Updating Stresses and Strains"): nodal
     /// velocities from the latest momenta (eq. 34), the velocity gradient at each particle
     /// (eq. 36, summed exactly), the strain increment (eq. 35), and the constitutive law.
+    /// In parallel over particles (each particle reads the grid and writes only itself).
     pub(crate) fn update_stresses(&mut self, dt_star: f64) {
         self.compute_nodal_velocities();
-        let nodes = &self.nodes;
-        let pairs = &self.pairs;
+        let with_cracks = self.has_cracks();
+        let mut grads = std::mem::take(&mut self.scratch.grad_v);
+        let this = &*self;
+        let grad_v = |i: usize| match with_cracks {
+            false => fast_or_exact(|| this.velocity_gradient::<FastSum<4>, false>(i), || this.velocity_gradient::<ExactSums<4>, false>(i)),
+            true => fast_or_exact(|| this.velocity_gradient::<FastSum<4>, true>(i), || this.velocity_gradient::<ExactSums<4>, true>(i)),
+        };
+        // Velocity gradients first (reading the grid), then the particle updates.
+        (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(grad_v).collect_into_vec(&mut grads);
+        let materials = &self.materials;
         let p = &mut self.particles;
-        let mut l = [ExactSum::new(), ExactSum::new(), ExactSum::new(), ExactSum::new()];
-        for i in 0..p.len() {
-            l.iter_mut().for_each(ExactSum::clear);
-            let base = i * MAX_NODES;
-            for k in base..base + pairs.count[i] as usize {
-                let v = nodes.fields[pairs.field[k] as usize].vel[pairs.node[k] as usize];
-                let g = pairs.g[k];
-                l[0].add(v.x * g.x);
-                l[1].add(v.x * g.y);
-                l[2].add(v.y * g.x);
-                l[3].add(v.y * g.y);
-            }
-            let grad_v = Tensor::new(l[0].value(), l[1].value(), l[2].value(), l[3].value());
-            let dl = grad_v * dt_star;
-            let de = Sym::sym_part(&dl);
-            let mat = &self.materials[p.material[i] as usize];
-            mat.update(&de, &mut p.strain[i], &mut p.stress[i]);
-            p.grad_u[i] += dl;
-        }
+        (p.strain.par_iter_mut(), p.stress.par_iter_mut(), p.grad_u.par_iter_mut(), p.material.par_iter(), grads.par_iter())
+            .into_par_iter()
+            .with_min_len(PARTICLE_CHUNK)
+            .for_each(|(strain, stress, grad_u, &material, grad_v)| {
+                let dl = grad_v * dt_star;
+                let de = Sym::sym_part(&dl);
+                materials[material as usize].update(&de, strain, stress);
+                *grad_u += dl;
+            });
+        self.scratch.grad_v = grads;
     }
 
     /// Task 3: internal and external nodal forces per field (eq. 28), total force with
     /// damping −κp, zeroed in fixed directions. Also accumulates the damping energy.
+    /// The per-node gathers run in parallel over the active nodes.
     fn task3_forces(&mut self) {
         let kappa = self.options.damping;
         let nf = self.nodes.fields.len();
-        let p = &self.particles;
-        let pairs = &self.pairs;
+        let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
+        let has_ext = !self.loads.is_empty() || has_body;
+        let mut sums = std::mem::take(&mut self.scratch.force);
+        let this = &*self;
+        this.nodes
+            .active
+            .par_iter()
+            .with_min_len(NODE_CHUNK)
+            .map(|&node| match this.is_split(node) {
+                false => fast_or_exact(|| this.node_forces::<FastSum<2>, false>(node, has_ext, has_body), || this.node_forces::<ExactSums<2>, false>(node, has_ext, has_body)),
+                true => fast_or_exact(|| this.node_forces::<FastSum<2>, true>(node, has_ext, has_body), || this.node_forces::<ExactSums<2>, true>(node, has_ext, has_body)),
+            })
+            .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
-        let body_force = &self.body_force;
-        let has_ext = !self.loads.is_empty() || body_force.iter().any(|b| *b != Vector::zeros());
-        let mut acc: [[ExactSum; 4]; 3] = Default::default();
-        let mut damp_power = ExactSum::new();
-        for &node in &nodes.active {
+        for (&node, g) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
-            for a in acc.iter_mut().take(nf) {
-                a.iter_mut().for_each(ExactSum::clear);
-            }
-            for &item in &pairs.items[pairs.start[i] as usize..pairs.start[i + 1] as usize] {
-                let item = item as usize;
-                let pp = item / MAX_NODES;
-                let f = pairs.field[item] as usize;
-                // f_int = −V σ·G (the paper's −m σ̄·G with specific stress σ̄ = σ/ρ).
-                let t = p.stress[pp].dot_vec(&pairs.g[item]);
-                let v0 = p.vol0[pp];
-                acc[f][0].add(-(v0 * t.x));
-                acc[f][1].add(-(v0 * t.y));
-                if has_ext {
-                    let s = pairs.s[item];
-                    let fp = p.force[pp] + body_force[p.body[pp] as usize] * p.mass[pp];
-                    acc[f][2].add(fp.x * s);
-                    acc[f][3].add(fp.y * s);
-                }
-            }
-            for (f, a) in acc.iter().enumerate().take(nf) {
+            for (f, fa) in nodes.fields.iter_mut().enumerate().take(nf) {
                 if nodes.present[i] & (1 << f) == 0 {
                     continue;
                 }
-                let fa = &mut nodes.fields[f];
-                fa.fint[i] = Vector::new(a[0].value(), a[1].value());
-                fa.fext[i] = Vector::new(a[2].value(), a[3].value());
+                fa.fint[i] = g.fint[f];
+                fa.fext[i] = g.fext[f];
                 let mom = fa.mom[i];
                 fa.ftot[i] = (fa.fint[i] + fa.fext[i]) - mom * kappa;
-                if kappa != 0.0 {
-                    damp_power.add(kappa * mom.norm_squared() / fa.mass[i]);
-                }
             }
         }
+        self.scratch.force = sums;
         // Fixed directions do not accelerate.
         for &node in &self.bcs.nodes {
             let i = node as usize;
@@ -338,7 +377,14 @@ impl Simulation {
                 }
             }
         }
-        self.work.damping += self.options.dt * damp_power.value();
+        // Power of the damping force κp·v = κ|p|²/m, over every field in use.
+        let damp_power = if kappa != 0.0 {
+            let n = &self.nodes;
+            crate::exact::sum_fast(n.present_fields().map(|(f, i)| kappa * n.fields[f].mom[i].norm_squared() / n.fields[f].mass[i]))
+        } else {
+            0.0
+        };
+        self.work.damping += self.options.dt * damp_power;
     }
 
     /// Task 4: p' = p + Δt f_tot (eq. 29); then contact, with forces back-computed.
@@ -385,6 +431,7 @@ impl Simulation {
     /// so this is the work the grid forces f_ext do. (The particle velocity v_p is not
     /// the velocity to use: FLIP updates leave components in it the grid cannot see, and
     /// under a load applied to a few rows of particles those correlate with the load.)
+    /// The sums run in parallel over particles.
     fn task5_update_particles(&mut self) {
         let dt = self.options.dt;
         {
@@ -399,68 +446,81 @@ impl Simulation {
                 }
             }
         }
-        let nodes = &self.nodes;
-        let pairs = &self.pairs;
+        let with_cracks = self.has_cracks();
+        let mut incs = std::mem::take(&mut self.scratch.increments);
+        let this = &*self;
+        let increments = |i: usize| match with_cracks {
+            false => fast_or_exact(|| this.particle_increments::<FastSum<4>, false>(i), || this.particle_increments::<ExactSums<4>, false>(i)),
+            true => fast_or_exact(|| this.particle_increments::<FastSum<4>, true>(i), || this.particle_increments::<ExactSums<4>, true>(i)),
+        };
+        (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
-        let body_force = &self.body_force;
-        let has_ext = !self.loads.is_empty() || body_force.iter().any(|b| *b != Vector::zeros());
-        let mut work = ExactSum::new();
-        let mut s: [ExactSum; 4] = Default::default();
-        for i in 0..p.len() {
-            s.iter_mut().for_each(ExactSum::clear);
-            let base = i * MAX_NODES;
-            for k in base..base + pairs.count[i] as usize {
-                let fa = &nodes.fields[pairs.field[k] as usize];
-                let n = pairs.node[k] as usize;
-                let w = pairs.s[k];
-                s[0].add(w * fa.vel[n].x);
-                s[1].add(w * fa.vel[n].y);
-                s[2].add(w * fa.acc[n].x);
-                s[3].add(w * fa.acc[n].y);
-            }
-            let dx = Vector::new(s[0].value(), s[1].value()) * dt;
-            if has_ext {
+        // Work of the external loads, summed exactly over the particles with a load or a
+        // body force: the others' terms are ±0, which change the exact sum only in its
+        // sign when it is exactly zero, so that case is summed over all particles.
+        let has_ext = !self.loads.is_empty() || self.body_force.iter().any(|b| *b != Vector::zeros());
+        if has_ext {
+            let body_force = &self.body_force;
+            let work = |i: usize| {
                 let f = p.force[i] + body_force[p.body[i] as usize] * p.mass[i];
-                work.add(f.dot(&dx));
+                f.dot(&(incs[i].0 * dt))
+            };
+            let mut sum = crate::exact::sum_fast(self.scratch.forced.iter().map(|&i| work(i as usize)));
+            if sum == 0.0 {
+                sum = crate::exact::sum_fast((0..p.len()).map(work));
             }
-            p.x[i] += dx;
-            p.v[i] += Vector::new(s[2].value(), s[3].value()) * dt;
+            self.work.external_work += sum;
+        } else {
+            self.work.external_work += 0.0;
         }
-        self.work.external_work += work.value();
+        (p.x.par_iter_mut(), p.v.par_iter_mut(), incs.par_iter()).into_par_iter().with_min_len(PARTICLE_CHUNK).for_each(|(x, v, (vel, acc))| {
+            *x += vel * dt;
+            *v += acc * dt;
+        });
+        self.scratch.increments = incs;
     }
 
     /// Task 6c: extrapolate the new particle momenta to the grid with the shape functions
-    /// and fields of Task 1 (eq. 31), then boundary conditions and contact.
+    /// and fields of Task 1 (eq. 31), then boundary conditions and contact. The per-node
+    /// gathers run in parallel over the active nodes.
     fn task6c_reextrapolate(&mut self) {
         let nf = self.nodes.fields.len();
-        let p = &self.particles;
-        let pairs = &self.pairs;
+        let mut sums = std::mem::take(&mut self.scratch.momentum);
+        let this = &*self;
+        this.nodes
+            .active
+            .par_iter()
+            .with_min_len(NODE_CHUNK)
+            .map(|&node| match this.is_split(node) {
+                false => fast_or_exact(|| this.node_momentum::<FastSum<2>, false>(node), || this.node_momentum::<ExactSums<2>, false>(node)),
+                true => fast_or_exact(|| this.node_momentum::<FastSum<2>, true>(node), || this.node_momentum::<ExactSums<2>, true>(node)),
+            })
+            .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
-        let mut acc: [[ExactSum; 2]; 3] = Default::default();
-        for &node in &nodes.active {
+        for (&node, mom) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
-            for a in acc.iter_mut().take(nf) {
-                a.iter_mut().for_each(ExactSum::clear);
-            }
-            for &item in &pairs.items[pairs.start[i] as usize..pairs.start[i + 1] as usize] {
-                let item = item as usize;
-                let pp = item / MAX_NODES;
-                let f = pairs.field[item] as usize;
-                let s = pairs.s[item];
-                let m = p.mass[pp];
-                acc[f][0].add(m * p.v[pp].x * s);
-                acc[f][1].add(m * p.v[pp].y * s);
-            }
-            for (f, a) in acc.iter().enumerate().take(nf) {
+            for (f, fa) in nodes.fields.iter_mut().enumerate().take(nf) {
                 if nodes.present[i] & (1 << f) != 0 {
-                    nodes.fields[f].mom[i] = Vector::new(a[0].value(), a[1].value());
+                    fa.mom[i] = mom[f];
                 }
             }
         }
+        self.scratch.momentum = sums;
         self.apply_momentum_bcs();
         if self.has_cracks() {
             self.apply_contact_to_momenta();
         }
+    }
+
+    /// List the particles with a load or a body force (for the external work of Task 5).
+    fn collect_forced_particles(&mut self) {
+        let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
+        let (p, body_force, forced) = (&self.particles, &self.body_force, &mut self.scratch.forced);
+        forced.clear();
+        if self.loads.is_empty() && !has_body {
+            return;
+        }
+        forced.extend((0..p.len()).filter(|&i| p.load[i] != NO_LOAD || (has_body && body_force[p.body[i] as usize] != Vector::zeros())).map(|i| i as u32));
     }
 
     /// Exact total of the nodal momenta over all fields.
@@ -478,13 +538,13 @@ impl Simulation {
     /// Σ |p| over nodes: the scale against which a change of total momentum is judged.
     fn nodal_momentum_scale(&self) -> f64 {
         let n = &self.nodes;
-        crate::exact::sum_iter(n.present_fields().map(|(f, i)| n.fields[f].mom[i].abs().sum()))
+        crate::exact::sum_fast(n.present_fields().map(|(f, i)| n.fields[f].mom[i].abs().sum()))
     }
 
     /// Σ |f_int| over nodes: the scale against which Σ f_int = 0 is judged.
     fn force_scale(&self) -> f64 {
         let n = &self.nodes;
-        crate::exact::sum_iter(n.present_fields().map(|(f, i)| n.fields[f].fint[i].abs().sum()))
+        crate::exact::sum_fast(n.present_fields().map(|(f, i)| n.fields[f].fint[i].abs().sum()))
     }
 
     /// Checked mode after Task 1: positive masses where used; grid mass equals particle mass.
@@ -536,7 +596,7 @@ impl Simulation {
         if self.momentum_conserving {
             let now = self.total_momentum();
             let before = self.momentum_ref;
-            let scale = crate::exact::sum_iter((0..p.len()).map(|i| p.mass[i] * p.v[i].abs().sum()));
+            let scale = crate::exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].abs().sum()));
             let tol = MOMENTUM_TOL * scale.max(f64::MIN_POSITIVE);
             if (now - before).norm() > tol {
                 return Err(CheckError::Momentum {
@@ -556,5 +616,257 @@ impl Simulation {
             return Err(CheckError::Unstable { step, total: e.kinetic + e.strain, scale: self.energy_scale + e.external_work.abs() });
         }
         Ok(())
+    }
+}
+
+/// The sums of the step, one node or one particle at a time, written once for any
+/// [`Accumulator`]: run with [`FastSum`], and with [`ExactSums`] when the fast sum cannot
+/// certify a result (see [`fast_or_exact`]). `CRACKS = false` compiles the crack-free
+/// variant, where every pair is in field 0 (no field look-ups, no volume sums); it also
+/// serves the nodes that no crack splits in a cracked scene. The quantities summed
+/// together per pair are the lanes of one accumulator.
+impl Simulation {
+    /// May the pairs of `node` be in fields other than 0? Only if the scene has cracks and
+    /// the line-crossing test of Task 1 found a crack between the node and one of its
+    /// particles (which records the crack in `nodes.crack`); otherwise all are in field 0.
+    #[inline]
+    fn is_split(&self, node: u32) -> bool {
+        self.has_cracks() && self.nodes.crack[node as usize] != u16::MAX
+    }
+
+    /// Task 1 at one node: mass and momentum per field (eq. 26), and the nodal area per
+    /// unit thickness (eq. 27) for contact.
+    ///
+    /// `FIELDS = false` for a node no crack splits (every pair in field 0); `VOLUME` at the
+    /// nodes a crack splits, the only ones where contact reads the nodal volume (NaN
+    /// elsewhere: not computed).
+    fn node_mass<A3: Accumulator<3>, A1: Accumulator<1>, const FIELDS: bool, const VOLUME: bool>(&self, node: u32) -> Option<NodeMass> {
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let mut acc: [A3; MAX_FIELDS] = Default::default();
+        let mut vol = A1::default();
+        let mut present = 0u8;
+        for &item in pairs.of_node(node as usize) {
+            let item = item as usize;
+            let pp = item / MAX_NODES;
+            let f = if FIELDS { pairs.field[item] as usize } else { 0 };
+            let s = pairs.s[item];
+            let m = p.mass[pp];
+            present |= 1 << f;
+            acc[f].add([m * s, m * p.v[pp].x * s, m * p.v[pp].y * s]);
+            if VOLUME {
+                // Nodal area (eq. 27 per unit thickness), compared with the cell area.
+                vol.add([self.scratch.area[pp] * s]);
+            }
+        }
+        let mut out = NodeMass { present, ..Default::default() };
+        for (f, a) in acc.iter().enumerate().take(self.nodes.fields.len()) {
+            let [m, px, py] = a.certified()?;
+            out.mass[f] = m;
+            out.mom[f] = Vector::new(px, py);
+        }
+        out.volume = if VOLUME { vol.certified()?[0] } else { f64::NAN };
+        Some(out)
+    }
+
+    /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
+    fn node_forces<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce> {
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let mut int: [A; MAX_FIELDS] = Default::default();
+        let mut ext: [A; MAX_FIELDS] = Default::default();
+        let mut skipped_zeros = [false; MAX_FIELDS];
+        for &item in pairs.of_node(node as usize) {
+            let item = item as usize;
+            let pp = item / MAX_NODES;
+            let f = if CRACKS { pairs.field[item] as usize } else { 0 };
+            // f_int = −V σ·G (the paper's −m σ̄·G with specific stress σ̄ = σ/ρ).
+            let t = p.stress[pp].dot_vec(&pairs.g[item]);
+            let v0 = p.vol0[pp];
+            int[f].add([-(v0 * t.x), -(v0 * t.y)]);
+            if has_ext {
+                let force = p.force[pp];
+                if !has_body && force.x.to_bits() == 0 && force.y.to_bits() == 0 && p.mass[pp].is_finite() {
+                    // An unloaded particle: f_p = +0 + (±0)·m = (+0, +0) exactly, and its
+                    // terms +0·S = +0 only decide the sign of an all-zero sum (below).
+                    skipped_zeros[f] = true;
+                } else {
+                    let s = pairs.s[item];
+                    let fp = force + self.body_force[p.body[pp] as usize] * p.mass[pp];
+                    ext[f].add([fp.x * s, fp.y * s]);
+                }
+            }
+        }
+        let mut out = NodeForce::default();
+        for f in 0..self.nodes.fields.len() {
+            if self.nodes.present[node as usize] & (1 << f) != 0 {
+                out.fint[f] = Vector::from(int[f].certified()?);
+                out.fext[f] = Vector::from(ext[f].certified()?);
+                if skipped_zeros[f] {
+                    // With the +0 terms added, a −0 sum would have been +0 (x + 0 = x otherwise).
+                    out.fext[f] = out.fext[f].map(|x| x + 0.0);
+                }
+            }
+        }
+        Some(out)
+    }
+
+    /// Task 6c at one node: momentum per field from the new particle velocities (eq. 31).
+    fn node_momentum<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32) -> Option<[Vector; MAX_FIELDS]> {
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let mut acc: [A; MAX_FIELDS] = Default::default();
+        for &item in pairs.of_node(node as usize) {
+            let item = item as usize;
+            let pp = item / MAX_NODES;
+            let f = if CRACKS { pairs.field[item] as usize } else { 0 };
+            let s = pairs.s[item];
+            let m = p.mass[pp];
+            acc[f].add([m * p.v[pp].x * s, m * p.v[pp].y * s]);
+        }
+        let mut out = [Vector::zeros(); MAX_FIELDS];
+        for (f, mom) in out.iter_mut().enumerate().take(self.nodes.fields.len()) {
+            if self.nodes.present[node as usize] & (1 << f) != 0 {
+                *mom = Vector::from(acc[f].certified()?);
+            }
+        }
+        Some(out)
+    }
+
+    /// Velocity gradient at particle `i` (eq. 36): Σ v_i ⊗ G_ip over its pairs, each in
+    /// the pair's own velocity field.
+    fn velocity_gradient<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<Tensor> {
+        let (nodes, pairs) = (&self.nodes, &self.pairs);
+        let mut l = A::default();
+        let k = pairs.of_particle(i);
+        for ((&f, &node), g) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.g[k]) {
+            let f = if CRACKS { f as usize } else { 0 };
+            let v = nodes.fields[f].vel[node as usize];
+            l.add([v.x * g.x, v.x * g.y, v.y * g.x, v.y * g.y]);
+        }
+        let [xx, xy, yx, yy] = l.certified()?;
+        Some(Tensor::new(xx, xy, yx, yy))
+    }
+
+    /// Task 5 at particle `i` (eq. 30): (Σ S v_i, Σ S a_i) over its pairs, the velocity
+    /// that moves the particle and the acceleration that updates its velocity.
+    fn particle_increments<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<(Vector, Vector)> {
+        let (nodes, pairs) = (&self.nodes, &self.pairs);
+        let mut s = A::default();
+        let k = pairs.of_particle(i);
+        for ((&f, &n), &w) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.s[k]) {
+            let fa = &nodes.fields[if CRACKS { f as usize } else { 0 }];
+            let n = n as usize;
+            s.add([w * fa.vel[n].x, w * fa.vel[n].y, w * fa.acc[n].x, w * fa.acc[n].y]);
+        }
+        let [vx, vy, ax, ay] = s.certified()?;
+        Some((Vector::new(vx, vy), Vector::new(ax, ay)))
+    }
+}
+
+/// The fast sums if they certify their results, else the exact ones (which always do).
+/// Both give the correctly rounded sums, so the bits do not depend on which was used.
+#[inline]
+fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
+    fast().or_else(exact).expect("ExactSum always certifies its sums")
+}
+
+/// Smallest number of particles a parallel task takes (keeps rayon's overhead small).
+const PARTICLE_CHUNK: usize = 256;
+/// Smallest number of active nodes a parallel task takes.
+const NODE_CHUNK: usize = 64;
+
+/// Is the particle (with its uGIMP domain) inside the grid?
+#[inline]
+fn inside_grid(grid: &Grid, kind: ShapeKind, x: &Vector, lp: &Vector) -> bool {
+    let margin = match kind {
+        ShapeKind::Linear => Vector::zeros(),
+        ShapeKind::Ugimp => *lp,
+    };
+    let (lo, hi) = (grid.origin, grid.max_corner());
+    x.x - margin.x >= lo.x && x.x + margin.x <= hi.x && x.y - margin.y >= lo.y && x.y + margin.y <= hi.y
+}
+
+/// Checked mode: (ΣS, ΣGx, ΣGy) if the weights break the partition of unity, else None.
+#[inline]
+fn partition_of_unity_error(grid: &Grid, w: &shape::Weights) -> Option<(f64, f64, f64)> {
+    let sum_s = crate::exact::sum(&w.s[..w.n]);
+    let gx = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.x));
+    let gy = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.y));
+    let gtol = PARTITION_TOL / grid.min_h();
+    ((sum_s - 1.0).abs() > PARTITION_TOL || gx.abs() > gtol || gy.abs() > gtol).then_some((sum_s, gx, gy))
+}
+
+/// One active node's Task 1 sums, per field.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NodeMass {
+    pub present: u8,
+    pub mass: [f64; MAX_FIELDS],
+    pub mom: [Vector; MAX_FIELDS],
+    pub volume: f64,
+}
+
+/// One active node's Task 3 sums, per field.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NodeForce {
+    pub fint: [Vector; MAX_FIELDS],
+    pub fext: [Vector; MAX_FIELDS],
+}
+
+/// Per-step buffers of the parallel gathers (one entry per active node), kept across
+/// steps so the time step does not allocate.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    pub mass: Vec<NodeMass>,
+    pub force: Vec<NodeForce>,
+    pub momentum: Vec<[Vector; MAX_FIELDS]>,
+    pub grad_v: Vec<Tensor>,
+    pub increments: Vec<(Vector, Vector)>,
+    /// Current particle areas (volume per unit thickness), with cracks.
+    pub area: Vec<f64>,
+    /// CSR build: pairs per node of each particle chunk, then the chunks' write cursors.
+    pub chunk_counts: Vec<Vec<u32>>,
+    /// CSR build: the pair slots, written by the chunks in parallel.
+    pub slots: Vec<AtomicU32>,
+    /// Particles with a load or a body force this step, ascending.
+    pub forced: Vec<u32>,
+}
+
+/// Every buffer is refilled before it is read within a step, so a copy of a simulation
+/// starts with empty ones (and the atomics need no copying).
+impl Clone for Scratch {
+    fn clone(&self) -> Self {
+        Scratch::default()
+    }
+}
+
+/// Single stages of the step, for `benches/step.rs` (not a stable API: the state after
+/// calling them alone is not that of a real step).
+#[doc(hidden)]
+impl Simulation {
+    /// Particle to grid: Task 0 (shape functions) and Task 1 (crack fields, CSR, gathers).
+    pub fn bench_particle_to_grid(&mut self) -> Result<(), CheckError> {
+        self.task0_shape_functions()?;
+        self.task1_extrapolate()
+    }
+
+    /// Grid update: Tasks 2–4 (boundary conditions and contact, forces, momenta).
+    pub fn bench_grid_update(&mut self) -> Result<(), CheckError> {
+        self.task2_boundary_conditions();
+        self.task3_forces();
+        self.task4_update_momenta()
+    }
+
+    /// Grid to particle: Task 5 (particle update) and the stress update.
+    pub fn bench_grid_to_particle(&mut self) {
+        self.task5_update_particles();
+        self.update_stresses(0.5 * self.options.dt);
+    }
+
+    /// The line-crossing field assignment of Task 1 alone (cracks only).
+    pub fn bench_crack_fields(&mut self) -> Result<(), CheckError> {
+        self.assign_velocity_fields()
+    }
+
+    /// One contact pass over the nodes with two fields (cracks only).
+    pub fn bench_contact(&mut self) {
+        self.apply_contact_to_momenta();
     }
 }

@@ -145,15 +145,29 @@ impl Simulation {
     /// Task 1 with cracks: ν(p,i) for every pair by the line-crossing algorithm, and the
     /// crack that split each node. A node split by two different cracks, or needing
     /// fields 0, 1 and 2 at once, stops the run: CRAMP allows two fields per node.
+    ///
+    /// The gathers rely on this: a pair gets a field other than 0 only at a node whose
+    /// crack is recorded in `nodes.crack` (see `step::is_split`).
     pub(crate) fn assign_velocity_fields(&mut self) -> Result<(), CheckError> {
         let grid = &self.grid;
         let p = &self.particles;
         let pairs = &mut self.pairs;
         let node_crack = &mut self.nodes.crack;
         node_crack.fill(u16::MAX);
+        // A particle's nodes lie within h + l_p of it per axis: a node has a weight only if
+        // the rounded distance fl(x_p − x_n) is below h + l_p, and the rounding is at most
+        // a relative 2^−53; the factor 1 + 10⁻⁹ covers it (and the rounding of the bound).
+        let reach = (grid.h + p.lp.iter().fold(Vector::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
         for i in 0..p.len() {
             let base = i * MAX_NODES;
             let xp = p.x[i];
+            // Screening by crack extent, per particle: if the box around the particle that
+            // holds all its nodes misses every crack's bounding box, so does every
+            // particle–node rectangle of Subtask 1, and all its pairs are in field 0.
+            if self.cracks.iter().all(|c| !near_extent(&c.extent, xp, reach)) {
+                pairs.field[base..base + pairs.count[i] as usize].fill(0);
+                continue;
+            }
             for k in base..base + pairs.count[i] as usize {
                 let node = pairs.node[k] as usize;
                 let xn = grid.node_pos(node);
@@ -335,6 +349,12 @@ impl Simulation {
         }
         Ok(())
     }
+}
+
+/// Does the closed box `x ± reach` meet the closed extent?
+#[inline]
+fn near_extent(e: &Extent, x: Vector, reach: Vector) -> bool {
+    x.x + reach.x >= e.min.x && x.x - reach.x <= e.max.x && x.y + reach.y >= e.min.y && x.y - reach.y <= e.max.y
 }
 
 /// +1 if `x` is left of (above) the nearest segment whose interior it projects onto

@@ -67,7 +67,11 @@ pub struct Summary {
     pub particles: usize,
     pub nodes: usize,
     pub wall_time_s: f64,
+    /// Particles × steps / wall time of the time loop (outputs included).
     pub particle_steps_per_second: f64,
+    /// Worker threads of the run (results do not depend on it).
+    #[serde(default)]
+    pub threads: usize,
     pub checked: bool,
     pub final_energies: HistoryRow,
 }
@@ -188,6 +192,7 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         nodes: sim.grid.num_nodes(),
         wall_time_s: wall,
         particle_steps_per_second: sim.particles.len() as f64 * sim.step_count as f64 / wall.max(1e-12),
+        threads: rayon::current_num_threads(),
         checked: sim.options.checked,
         final_energies: *history.last().expect("history has the initial row"),
     };

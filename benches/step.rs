@@ -1,0 +1,132 @@
+//! Timing of the MPM step on the performance scene of issue 6, the DCB of
+//! verification/dcb_perf.toml (9600 particles, 1 mm cells, uGIMP, USAVG, with the crack),
+//! and its crack-free twin verification/dcb_perf_half.toml (4800 particles): the whole
+//! step with and without the crack (crack overhead per particle-step), particle-to-grid,
+//! grid update, grid-to-particle, crack field assignment, contact, and exact vs naive
+//! summation of the same nodal terms. Throughput is in particles (= particle-steps for a
+//! whole step) or terms per second.
+//!
+//! Quick by design (10 samples, 0.3 s warm-up, 1 s measurement, no plots): run
+//! `RAYON_NUM_THREADS=1 cargo bench --bench step` for the single-core figures; the
+//! `whole_step_2_threads` group uses its own 2-thread pool. The states are those after
+//! 200 steps (0.076 ms, the stress waves have crossed the beam), checked mode off.
+//! Wall-clock figures on a shared machine are noisy; compare with callgrind counts.
+//!
+//! Measured 2026-11 (2-core machine shared with other jobs, load 1–4), 1 thread: whole
+//! step 3.9 ms on the DCB (2.5 M particle-steps/s) and 2.4 ms on the twin; node sums of
+//! the Task 1 terms: naive 3.2 G terms/s, certified fast 0.46 G/s, exact fixed point
+//! 0.087 G/s. The 2-thread group needs an idle second core to mean anything.
+
+use cramp::exact::{Accumulator, ExactSum, FastSum};
+use cramp::scene::Scene;
+use cramp::shape::MAX_NODES;
+use cramp::simulation::Simulation;
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+use std::hint::black_box;
+use std::time::Duration;
+
+fn warm(file: &str) -> Simulation {
+    let path = format!("{}/verification/{file}", env!("CARGO_MANIFEST_DIR"));
+    let mut sim = Scene::from_file(std::path::Path::new(&path)).unwrap().build().unwrap();
+    sim.options.checked = false;
+    for _ in 0..200 {
+        sim.step().unwrap();
+    }
+    sim
+}
+
+fn quick<'a>(c: &'a mut Criterion, name: &str) -> criterion::BenchmarkGroup<'a, criterion::measurement::WallTime> {
+    let mut g = c.benchmark_group(name);
+    g.sample_size(10).warm_up_time(Duration::from_millis(300)).measurement_time(Duration::from_secs(1));
+    g
+}
+
+fn bench_step(c: &mut Criterion) {
+    let cracked = warm("dcb_perf.toml");
+    let half = warm("dcb_perf_half.toml");
+    println!(
+        "threads {}, DCB {} particles, twin {} particles, {} / {} active nodes",
+        rayon::current_num_threads(),
+        cracked.particles.len(),
+        half.particles.len(),
+        cracked.nodes.active.len(),
+        half.nodes.active.len()
+    );
+
+    let mut g = quick(c, "whole_step");
+    for (name, sim) in [("dcb_crack", &cracked), ("dcb_half_no_crack", &half)] {
+        g.throughput(Throughput::Elements(sim.particles.len() as u64));
+        let mut s = sim.clone();
+        g.bench_function(name, |b| b.iter(|| s.step().unwrap()));
+    }
+    g.finish();
+
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let mut g = quick(c, "whole_step_2_threads");
+    for (name, sim) in [("dcb_crack", &cracked), ("dcb_half_no_crack", &half)] {
+        g.throughput(Throughput::Elements(sim.particles.len() as u64));
+        let mut s = sim.clone();
+        g.bench_function(name, |b| b.iter(|| pool.install(|| s.step().unwrap())));
+    }
+    g.finish();
+
+    let mut g = quick(c, "stages");
+    g.throughput(Throughput::Elements(cracked.particles.len() as u64));
+    let mut s = cracked.clone();
+    g.bench_function("particle_to_grid", |b| b.iter(|| s.bench_particle_to_grid().unwrap()));
+    let mut s = cracked.clone();
+    s.bench_particle_to_grid().unwrap();
+    // The grid update changes the nodal momenta it reads, so start each run from a copy.
+    g.bench_function("grid_update", |b| b.iter_batched_ref(|| s.clone(), |s| s.bench_grid_update().unwrap(), BatchSize::LargeInput));
+    let mut s = cracked.clone();
+    g.bench_function("grid_to_particle", |b| b.iter(|| s.bench_grid_to_particle()));
+    let mut s = cracked.clone();
+    g.bench_function("crack_field_assignment", |b| b.iter(|| s.bench_crack_fields().unwrap()));
+    let mut s = cracked.clone();
+    g.bench_function("contact_pass", |b| b.iter(|| s.bench_contact()));
+    g.finish();
+
+    // Exact vs naive summation on the terms of Task 1 (m v_x S per pair, by node).
+    let (p, pairs) = (&cracked.particles, &cracked.pairs);
+    let terms: Vec<Vec<f64>> = cracked
+        .nodes
+        .active
+        .iter()
+        .map(|&n| {
+            pairs
+                .of_node(n as usize)
+                .iter()
+                .map(|&item| {
+                    let (item, pp) = (item as usize, item as usize / MAX_NODES);
+                    p.mass[pp] * p.v[pp].x * pairs.s[item]
+                })
+                .collect()
+        })
+        .collect();
+    let count: usize = terms.iter().map(Vec::len).sum();
+    let mut g = quick(c, "node_sums");
+    g.throughput(Throughput::Elements(count as u64));
+    g.bench_function("naive_f64", |b| b.iter(|| terms.iter().map(|t| t.iter().sum::<f64>()).fold(0.0, |a, x| a + black_box(x))));
+    g.bench_function("fast_certified", |b| {
+        b.iter(|| {
+            terms.iter().fold(0.0, |a, t| {
+                let mut f = FastSum::<1>::default();
+                t.iter().for_each(|&x| f.add([x]));
+                a + black_box(f.certified().map_or(f64::NAN, |v| v[0]))
+            })
+        })
+    });
+    g.bench_function("exact_fixed_point", |b| {
+        b.iter(|| {
+            terms.iter().fold(0.0, |a, t| {
+                let mut s = ExactSum::new();
+                t.iter().for_each(|&x| s.add(x));
+                a + black_box(s.value())
+            })
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench_step);
+criterion_main!(benches);
