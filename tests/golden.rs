@@ -54,5 +54,6 @@ golden_case!(
     fea_patch,
     fea_cantilever,
     fea_dcb,
-    cfl_sweep
+    cfl_sweep,
+    chen_early_time
 );

@@ -5,6 +5,7 @@
 pub mod colliding_disks;
 pub mod crack_patch;
 pub mod fea;
+pub mod fracture;
 pub mod impact;
 pub mod stability;
 pub mod vibrating_bar;
@@ -24,6 +25,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "fea_cantilever", run: fea::run_cantilever },
     Case { name: "fea_dcb", run: fea::run_dcb },
     Case { name: "cfl_sweep", run: stability::run_cfl_sweep },
+    Case { name: "chen_early_time", run: fracture::run },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },
 ];
