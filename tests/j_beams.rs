@@ -15,6 +15,7 @@
 //!   pressure, and the arms bend alike, so they do not interpenetrate.
 //! * Mixed, P_T = P, P_B = 0 = ½(P, −P) + ½(P, P): K_I and K_II are half of the two
 //!   above (superposition of the beam-theory values).
+//!
 //! Here a is measured from the load line — the column of loaded particles at
 //! x = 100 − h/4 — to the tip: a = 50 − h/4.
 //!

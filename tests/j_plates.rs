@@ -7,8 +7,9 @@
 //!   0.1 % for any α;
 //! * SENT (edge crack a, width W, α = a/W): F = √((2/(πα)) tan(πα/2)) [0.752 + 2.02α +
 //!   0.37(1 − sin(πα/2))³]/cos(πα/2), better than 0.5 %.
-//! The formulas are for long plates; the plates here are 3b (CCT) and 2W (SENT) high
-//! per half, where the references put the length effect below the formulas' accuracy.
+//!
+//! The formulas are for long plates; the half-heights here are 3b (CCT) and W (SENT),
+//! the references' minimum for the SENT (H/W ≥ 1 per half).
 //! The static K does not depend on E, ν or ρ for traction loading (2D elasticity), so
 //! a soft, light material settles fast: E = 1000 MPa, ν = 0.3, ρ = 10⁻³ g/mm³, plane
 //! strain; units mm, g, ms. The load is ramped over `ramp` and damped.
@@ -32,6 +33,7 @@ const SIGMA: f64 = 1.0;
 /// `half_width`: x-extent of the modelled body from 0; `symmetric`: rollers at x = 0
 /// (the CCT's mirror plane) and the crack from outside to x = a; otherwise the SENT,
 /// whose edge crack runs from outside the left edge x = 0 to x = a.
+#[allow(clippy::too_many_arguments)]
 fn plate(h: f64, width: f64, half_height: f64, a: f64, symmetric: bool, ramp: f64, damping: f64, end: f64, shift: f64) -> String {
     let force = SIGMA * width;
     let mut s = format!(

@@ -368,7 +368,7 @@ impl Simulation {
 /// so that G = (A_I K_I² + A_II K_II²)/(2μ) and, for a stationary crack,
 /// K_I = (δ_I/δ)√(E′G) (eq. 21). A closed crack (δ = 0) or G ≤ 0 gives K = 0: the split is
 /// undefined there, and J itself is reported alongside.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::neg_cmp_op_on_partial_ord)]
 pub fn partition_k(g: f64, delta_i: f64, delta_ii: f64, mu: f64, beta_d: f64, beta_s: f64, a_i: f64, a_ii: f64) -> (f64, f64) {
     let denom = delta_i * delta_i * beta_s + delta_ii * delta_ii * beta_d;
     if !(g > 0.0) || !(denom > 0.0) {
