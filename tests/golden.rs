@@ -55,5 +55,6 @@ golden_case!(
     fea_cantilever,
     fea_dcb,
     cfl_sweep,
-    chen_early_time
+    chen_early_time,
+    dcb_k
 );

@@ -26,6 +26,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "fea_dcb", run: fea::run_dcb },
     Case { name: "cfl_sweep", run: stability::run_cfl_sweep },
     Case { name: "chen_early_time", run: fracture::run },
+    Case { name: "dcb_k", run: fracture::run_dcb },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },
 ];
