@@ -43,6 +43,8 @@
 //!
 //! Cost: three runs of ≈ 350 steps, 896 particles: ≈ 2 s each (release, loaded machine).
 
+mod common;
+
 use cramp::scene::Scene;
 use cramp::simulation::Simulation;
 
@@ -52,48 +54,7 @@ const END: f64 = 20.0; // ms
 const MID_POINT: usize = 19; // crack particle at x = 9.5, under the middle of the block
 
 fn scene(mu: f64, f: f64) -> Scene {
-    let points: Vec<String> = (0..40).map(|i| format!("[{}, 0.0]", -9.5 + i as f64)).collect();
-    let text = format!(
-        r#"
-title = "block sliding on a crack face"
-[grid]
-origin = [-10.0, -6.0]
-size = [40.0, 12.0]
-cell = [1.0, 1.0]
-[solver]
-scheme = "usavg"
-shape = "ugimp"
-cfl = 0.5
-end_time = {END}
-particles_per_cell = 2
-checked = true
-[[materials]]
-name = "m"
-E = 0.1
-nu = 0.33
-rho = 1.5e-3
-state = "plane_stress"
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [0.0, 0.0], max = [20.0, 4.0] }} }}
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [-8.0, -4.0], max = [28.0, 0.0] }} }}
-[[boundary]]
-nodes = {{ region = {{ min = [-10.0, -6.0], max = [30.0, -3.0] }} }}
-vx = 0.0
-vy = 0.0
-[[loads]]
-particles = {{ region = {{ min = [0.0, 0.0], max = [20.0, 4.0] }} }}
-force = [{f}, {minus_n}]
-ramp = {RAMP}
-[[cracks]]
-points = [{points}]
-contact = {{ friction = {{ mu = {mu} }} }}
-"#,
-        minus_n = -N,
-        points = points.join(", ")
-    );
+    let text = common::block_on_crack([f, -N], RAMP, END, &format!("{{ friction = {{ mu = {mu} }} }}"));
     Scene::from_toml(&text, "crack friction").unwrap()
 }
 

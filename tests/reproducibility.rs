@@ -18,6 +18,8 @@
 //!    themselves to be mirrored to the bit, i.e. origin + i·h exact (h a power of two
 //!    here); see `mirror_needs_exact_node_coordinates` for what happens with h = 0.1.
 
+mod common;
+
 use cramp::scene::Scene;
 use cramp::simulation::{Scheme, Simulation};
 use std::collections::HashMap;
@@ -314,41 +316,7 @@ contact = {contact}
 /// A block pressed onto a fixed base across a horizontal crack and pushed sideways
 /// (tests/crack_friction.rs): loads, boundary conditions and sliding friction contact.
 fn block_on_crack(contact: &str) -> String {
-    let points: Vec<String> = (0..40).map(|i| format!("[{}, 0.0]", -9.5 + i as f64)).collect();
-    format!(
-        r#"
-[grid]
-origin = [-10.0, -6.0]
-size = [40.0, 12.0]
-cell = [1.0, 1.0]
-[solver]
-end_time = 10.0
-[[materials]]
-name = "m"
-E = 0.1
-nu = 0.33
-rho = 1.5e-3
-state = "plane_stress"
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [0.0, 0.0], max = [20.0, 4.0] }} }}
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [-8.0, -4.0], max = [28.0, 0.0] }} }}
-[[boundary]]
-nodes = {{ region = {{ min = [-10.0, -6.0], max = [30.0, -3.0] }} }}
-vx = 0.0
-vy = 0.0
-[[loads]]
-particles = {{ region = {{ min = [0.0, 0.0], max = [20.0, 4.0] }} }}
-force = [0.02, -0.03]
-ramp = 1.0
-[[cracks]]
-points = [{p}]
-contact = {contact}
-"#,
-        p = points.join(", ")
-    )
+    common::block_on_crack([0.02, -0.03], 1.0, 10.0, contact)
 }
 
 /// Bits of every crack particle and of both surfaces, crack by crack.

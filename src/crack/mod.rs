@@ -220,44 +220,46 @@ impl Simulation {
     pub(crate) fn task7_move_cracks(&mut self) {
         let dt = self.options.dt;
         let zero = Vector::zeros();
+        let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
+        // Moved in place: the cracks are taken out while the grid and nodes are read.
+        let mut cracks = std::mem::take(&mut self.cracks);
         let this: &Simulation = self;
-        let mut moved_cracks = Vec::with_capacity(this.cracks.len());
-        for (c, crack) in this.cracks.iter().enumerate() {
-            let reach = 2.0 * this.grid.h.x.max(this.grid.h.y);
-            // Velocity at x from the nodes' fields chosen by `field(i)`, renormalised.
-            let velocity = |x: &Vector, field: &dyn Fn(usize) -> Option<Vector>| -> Vector {
-                let w = shape::weights(&this.grid, ShapeKind::Linear, x, &zero);
-                let (mut sx, mut sy, mut sw) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
-                for k in 0..w.n {
-                    if let Some(v) = field(w.node[k] as usize) {
-                        sx.add(w.s[k] * v.x);
-                        sy.add(w.s[k] * v.y);
-                        sw.add(w.s[k]);
-                    }
+        // Velocity at x from the nodes' fields chosen by `field(i)`, renormalised.
+        let velocity = |x: &Vector, field: &dyn Fn(usize) -> Option<Vector>| -> Vector {
+            let w = shape::weights(&this.grid, ShapeKind::Linear, x, &zero);
+            let (mut sx, mut sy, mut sw) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
+            for k in 0..w.n {
+                if let Some(v) = field(w.node[k] as usize) {
+                    sx.add(w.s[k] * v.x);
+                    sy.add(w.s[k] * v.y);
+                    sw.add(w.s[k]);
                 }
-                let ws = sw.value();
-                if ws > 0.0 {
-                    Vector::new(sx.value(), sy.value()) / ws
-                } else {
-                    zero
-                }
-            };
-            let cm = |i: usize| this.centre_of_mass_velocity(i);
-            let side = |i: usize, above: bool| {
-                this.surface_field(c, &crack.points, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i])
-            };
-            let on_above = |i: usize| side(i, true);
-            let on_below = |i: usize| side(i, false);
-            let mut next = crack.clone();
-            for k in 0..crack.points.len() {
-                next.points[k] = crack.points[k] + velocity(&crack.points[k], &cm) * dt;
-                next.above[k] = crack.above[k] + velocity(&crack.above[k], &on_above) * dt;
-                next.below[k] = crack.below[k] + velocity(&crack.below[k], &on_below) * dt;
             }
-            next.extent = Extent::of(&next.points);
-            moved_cracks.push(next);
+            let ws = sw.value();
+            if ws > 0.0 {
+                Vector::new(sx.value(), sy.value()) / ws
+            } else {
+                zero
+            }
+        };
+        let cm = |i: usize| this.centre_of_mass_velocity(i);
+        for (c, crack) in cracks.iter_mut().enumerate() {
+            // The surfaces first: their fields are found against the crack before it moves.
+            {
+                let points = &crack.points;
+                let side = |i: usize, above: bool| {
+                    this.surface_field(c, points, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i])
+                };
+                for (x, above) in crack.above.iter_mut().map(|x| (x, true)).chain(crack.below.iter_mut().map(|x| (x, false))) {
+                    *x += velocity(x, &|i| side(i, above)) * dt;
+                }
+            }
+            for x in crack.points.iter_mut() {
+                *x += velocity(x, &cm) * dt;
+            }
+            crack.extent = Extent::of(&crack.points);
         }
-        self.cracks = moved_cracks;
+        self.cracks = cracks;
     }
 
     /// Centre-of-mass velocity of node i over its fields (eq. 32), None without mass.
