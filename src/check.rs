@@ -42,6 +42,8 @@ pub enum CheckError {
     NoVisibleNode { step: u64, particle: usize, id: u32 },
     #[error("step {step}: contact at node {node} changed total momentum from ({bx:.17e}, {by:.17e}) to ({ax:.17e}, {ay:.17e})")]
     ContactMomentum { step: u64, node: usize, bx: f64, by: f64, ax: f64, ay: f64 },
+    #[error("step {step}: crack growth: {error}")]
+    Growth { step: u64, error: crate::fracture::growth::GrowthError },
     #[error("step {step}: energy grew without bound (total {total:.6e} vs initial scale {scale:.6e}): the time step is probably above the stability limit; reduce `solver.cfl` or `solver.dt`")]
     Unstable { step: u64, total: f64, scale: f64 },
 }

@@ -8,6 +8,7 @@
 //! `docs/scene.md` for every field.
 
 use crate::crack::{ContactLaw, Crack, CrackMethod};
+use crate::fracture::growth::{Criterion, Growth, GrowthSettings, Toughness};
 use crate::fracture::jintegral::{JRequest, TipEnd};
 use crate::dim::Vector;
 use crate::grid::Grid;
@@ -132,6 +133,20 @@ pub struct MaterialSpec {
     pub rho: f64,
     /// plane_stress or plane_strain.
     pub state: PlaneState,
+    /// Fracture toughness and growth criterion (001 §2.3.1). Omitted: the material never
+    /// fractures (a growing crack stops where its tip is in this material).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub toughness: Option<ToughnessSpec>,
+}
+
+/// `materials[].toughness = { criterion = "max_hoop_stress" | "min_strain_energy", kic = … }`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ToughnessSpec {
+    /// Which criterion decides growth and its direction (required).
+    pub criterion: Criterion,
+    /// K_Ic in the scene's stress × √length units (required).
+    pub kic: f64,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -249,6 +264,32 @@ pub struct FractureSpec {
     /// Add the area term of eq. 8 (two-term, path-independent J; default false).
     #[serde(default)]
     pub area_term: bool,
+    /// Let the tips grow (001 §2.3.2) by the toughness of the material they are in.
+    /// Omitted: the crack is stationary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub growth: Option<GrowthSpec>,
+}
+
+/// `cracks[].fracture.growth = { increment = 0.5, every = 1, max_speed = … }`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GrowthSpec {
+    /// Length of each new segment as a fraction of the cell size (default 0.5, 001 §2.3.2).
+    #[serde(default = "default_increment")]
+    pub increment: f64,
+    /// Evaluate J, K and the criterion every this many steps (default 1).
+    #[serde(default = "default_every")]
+    pub every: u64,
+    /// Optional upper limit on the tip speed (the Rayleigh speed always limits it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_speed: Option<f64>,
+}
+
+fn default_increment() -> f64 {
+    0.5
+}
+fn default_every() -> u64 {
+    1
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -427,6 +468,12 @@ impl Scene {
             if self.materials[..i].iter().any(|o| o.name == m.name) {
                 return Err(invalid(f("name"), format!("duplicate material name '{}'", m.name)));
             }
+            if let Some(t) = &m.toughness {
+                positive(&f("toughness.kic"), t.kic)?;
+                if t.criterion == Criterion::MinStrainEnergy && m.nu < 0.0 {
+                    return Err(invalid(f("toughness.criterion"), format!("min_strain_energy needs 0 ≤ ν (κ in (1, 3]), got ν = {}", m.nu)));
+                }
+            }
         }
         if self.bodies.is_empty() {
             return Err(invalid("bodies", "at least one body is required"));
@@ -473,6 +520,21 @@ impl Scene {
             if let Some(fr) = &c.fracture {
                 if fr.contour == 0 {
                     return Err(invalid(format!("cracks[{i}].fracture.contour"), "must be at least 1 (cells from the node nearest the tip)"));
+                }
+                if let Some(gr) = &fr.growth {
+                    let f = |n: &str| format!("cracks[{i}].fracture.growth.{n}");
+                    if !(gr.increment > 0.0 && gr.increment <= 1.0) {
+                        return Err(invalid(f("increment"), format!("must be in (0, 1] (a fraction of the cell size), got {}", gr.increment)));
+                    }
+                    if gr.every == 0 {
+                        return Err(invalid(f("every"), "must be at least 1 (steps between evaluations)"));
+                    }
+                    if let Some(vmax) = gr.max_speed {
+                        positive(&f("max_speed"), vmax)?;
+                    }
+                    if self.materials.iter().all(|m| m.toughness.is_none()) {
+                        return Err(invalid(format!("cracks[{i}].fracture.growth"), "the crack may grow but no material has a `toughness` (criterion and kic)"));
+                    }
                 }
             }
             if let ContactSpec::Friction { mu } = c.contact {
@@ -658,7 +720,29 @@ impl Scene {
         };
         let body_force = self.bodies.iter().map(|b| v(b.body_force)).collect();
         let thickness = self.bodies.iter().map(|b| b.thickness).collect();
-        Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options))
+        let mut sim = Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options);
+        sim.growth = self.growth(&sim);
+        Ok(sim)
+    }
+
+    /// Crack-growth state for the cracks whose `fracture.growth` is set (None if none is).
+    fn growth(&self, sim: &Simulation) -> Option<Growth> {
+        let requests = self.fracture_requests();
+        let growing: Vec<(usize, JRequest, GrowthSettings)> = self
+            .cracks
+            .iter()
+            .enumerate()
+            .filter_map(|(c, spec)| {
+                let g = spec.fracture.as_ref()?.growth.as_ref()?;
+                let settings = GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed };
+                Some((c, requests[c].clone()?, settings))
+            })
+            .collect();
+        if growing.is_empty() {
+            return None;
+        }
+        let toughness = self.materials.iter().map(|m| m.toughness.as_ref().map(|t| Toughness { criterion: t.criterion, kic: t.kic })).collect();
+        Some(Growth::new(sim, toughness, growing))
     }
 
     /// Per crack, the J/K request of its `fracture` table (None: not computed).

@@ -185,6 +185,8 @@ pub struct Simulation {
     /// Side (+1 above, −1 below, 0 unknown) of each particle relative to each crack,
     /// index id·ncracks + c with the particle's id (checked mode, cracks only).
     pub(crate) crack_side: Vec<i8>,
+    /// Crack growth (001 §2.3), when a scene lets a crack grow; None otherwise.
+    pub growth: Option<crate::fracture::growth::Growth>,
 }
 
 impl Simulation {
@@ -228,6 +230,7 @@ impl Simulation {
             momentum_conserving,
             energy_scale: 0.0,
             crack_side: Vec::new(),
+            growth: None,
         };
         let e = sim.energies();
         sim.energy_scale = e.kinetic + e.strain;

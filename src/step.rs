@@ -69,6 +69,10 @@ impl Simulation {
         self.task7_move_cracks();
         // Task 8: all information is back on the particles.
         self.time += dt;
+        // Crack propagation (001 §2.3.2), only in scenes that let a crack grow.
+        if self.growth.is_some() {
+            self.grow_cracks().map_err(|error| CheckError::Growth { step: self.step_count, error })?;
+        }
         if self.options.checked {
             self.check_after_step()?;
             if self.has_cracks() {

@@ -311,3 +311,25 @@ fn docs_example_scene_is_valid() {
     let s = Scene::from_toml(&doc[start..end], "docs/scene.md").unwrap();
     s.build().unwrap();
 }
+
+#[test]
+fn crack_growth_settings_and_toughness() {
+    let grow = |g: &str| format!("{BASE}\n[[cracks]]\npoints = [[0.1, 0.4], [0.5, 0.4]]\nfracture = {{ tips = \"end\", growth = {{ {g} }} }}\n");
+    let tough = "state = \"plane_strain\"\ntoughness = { criterion = \"max_hoop_stress\", kic = 1.0 }";
+    let with_toughness = |g: &str| grow(g).replacen("state = \"plane_strain\"", tough, 1);
+    // a crack may grow, but no material has a toughness
+    assert_eq!(invalid_field(&grow("")), "cracks[0].fracture.growth");
+    assert!(with_toughness("").contains("toughness"));
+    assert!(Scene::from_toml(&with_toughness(""), "ok").unwrap().build().is_ok());
+    assert_eq!(invalid_field(&with_toughness("increment = 0.0")), "cracks[0].fracture.growth.increment");
+    assert_eq!(invalid_field(&with_toughness("increment = 1.5")), "cracks[0].fracture.growth.increment");
+    assert_eq!(invalid_field(&with_toughness("every = 0")), "cracks[0].fracture.growth.every");
+    assert_eq!(invalid_field(&with_toughness("max_speed = -1.0")), "cracks[0].fracture.growth.max_speed");
+    let bad_kic = with_toughness("").replace("kic = 1.0", "kic = -2.0");
+    assert_eq!(invalid_field(&bad_kic), "materials[0].toughness.kic");
+    // a toughness without its criterion, or an unknown criterion, is a parse error naming it
+    expect(&with_toughness("").replace("criterion = \"max_hoop_stress\", ", ""), &["criterion"]);
+    expect(&with_toughness("").replace("max_hoop_stress", "max_stress"), &["max_stress"]);
+    let sed_negative_nu = with_toughness("").replace("max_hoop_stress", "min_strain_energy").replace("nu = 0.3", "nu = -0.2");
+    assert_eq!(invalid_field(&sed_negative_nu), "materials[0].toughness.criterion");
+}

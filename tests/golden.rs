@@ -56,5 +56,8 @@ golden_case!(
     fea_dcb,
     cfl_sweep,
     chen_early_time,
-    dcb_k
+    dcb_k,
+    pmma_tpb,
+    pmma_tpb_offcentre,
+    mode_ii_kink
 );

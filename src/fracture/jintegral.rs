@@ -152,6 +152,13 @@ fn integrand(s: &NodalState, n: Vector) -> Vector {
 }
 
 impl TipResult {
+    /// The row of a tip where J could not be evaluated: position known, the rest NaN.
+    pub fn unavailable(time: f64, crack: usize, end: TipEnd, tip: Vector) -> Self {
+        let nan = f64::NAN;
+        let n = Vector::new(nan, nan);
+        TipResult { time, crack, end, tip, direction: n, j1: nan, j2: nan, j1_line: nan, j2_line: nan, delta_i: nan, delta_ii: nan, k1: nan, k2: nan }
+    }
+
     pub const HEADER: &'static str = "time,crack,tip,x,y,dir_x,dir_y,j1,j2,j1_line,j2_line,delta_i,delta_ii,k1,k2";
 
     /// One row of cracks.csv (`{:e}` round-trips f64 exactly).
@@ -255,13 +262,19 @@ impl Simulation {
         let m = path.len();
         let pos = |k: usize| self.grid.node_pos(path[k % m]);
         // Every crossing as (perimeter segment j, parameter t in [0, 1)), a crossing at a
-        // node counted once (t = 1 is the next segment's t = 0).
+        // node counted once (t = 1 is the next segment's t = 0), and so is a crack
+        // particle lying on the perimeter, which both of its segments meet: hits closer
+        // than 1e-9 of a perimeter segment are one crossing.
         let mut hits: Vec<(usize, f64)> = Vec::new();
+        let same = |a: (usize, f64), b: (usize, f64)| {
+            let d = (a.0 as f64 + a.1 - b.0 as f64 - b.1).abs();
+            d.min(m as f64 - d) < 1e-9
+        };
         for j in 0..m {
             for s in self.cracks[c].points.windows(2) {
                 if let Some((t, _)) = crate::crack::geometry::segment_intersection(pos(j), pos(j + 1), s[0], s[1]) {
                     let hit = if t >= 1.0 { ((j + 1) % m, 0.0) } else { (j, t) };
-                    if !hits.contains(&hit) {
+                    if !hits.iter().any(|&h| same(h, hit)) {
                         hits.push(hit);
                     }
                 }
@@ -348,13 +361,25 @@ impl Simulation {
             .map(|i| &self.materials[p.material[i] as usize])
     }
 
-    /// Fracture parameters at every requested tip (`requests[c]` for crack c), crack speed 0.
+    /// Fracture parameters at every requested tip (`requests[c]` for crack c), with each
+    /// growing tip's current speed estimate (0 for a stationary crack).
     pub fn fracture_parameters(&self, requests: &[Option<JRequest>]) -> Result<Vec<TipResult>, FractureError> {
         let mut out = Vec::new();
         for (c, r) in requests.iter().enumerate() {
             if let Some(r) = r {
                 for &end in &r.tips {
-                    out.push(self.tip_fracture(c, end, r.contour, r.area_term, 0.0)?);
+                    let speed = self.growth.as_ref().map_or(0.0, |g| g.tip_speed(c, end, self.time));
+                    let grows = self.growth.as_ref().is_some_and(|g| g.grows(c));
+                    match self.tip_fracture(c, end, r.contour, r.area_term, speed) {
+                        Ok(t) => out.push(t),
+                        // A growing crack may curve through its contour or reach the grid's
+                        // edge: a row of NaN then (growth.csv says why); a stationary one
+                        // whose contour fails is an error in the scene.
+                        Err(FractureError::ContourOutsideGrid { .. } | FractureError::Crossings { .. }) if grows => {
+                            out.push(TipResult::unavailable(self.time, c, end, self.tip_of(c, end)));
+                        }
+                        Err(e) => return Err(e),
+                    }
                 }
             }
         }

@@ -6,6 +6,7 @@
 pub mod vtk;
 
 use crate::dim::Vector;
+use crate::fracture::growth::GrowthRecord;
 use crate::fracture::jintegral::{FractureError, TipResult};
 use crate::scene::Scene;
 use crate::simulation::{Energies, Simulation};
@@ -74,6 +75,9 @@ pub struct Summary {
     pub threads: usize,
     pub checked: bool,
     pub final_energies: HistoryRow,
+    /// Growing cracks at the end of the run: length, tip states, split time.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub growth: Vec<CrackGrowthSummary>,
 }
 
 /// How to run a scene.
@@ -195,11 +199,16 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         threads: rayon::current_num_threads(),
         checked: sim.options.checked,
         final_energies: *history.last().expect("history has the initial row"),
+        growth: CrackGrowthSummary::of(&sim),
     };
     if let Some(dir) = &opts.out_dir {
         write_history(&dir.join("history.csv"), &history)?;
         if wants_j {
             write_tips(&dir.join("cracks.csv"), &tips)?;
+        }
+        if let Some(g) = &sim.growth {
+            write_rows(&dir.join("growth.csv"), GrowthRecord::HEADER, g.records.iter().map(GrowthRecord::csv))?;
+            write_crack_paths(&dir.join("crack_paths.csv"), &sim)?;
         }
         let json = serde_json::to_string_pretty(&summary)?;
         std::fs::write(dir.join("summary.json"), json).with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
@@ -209,22 +218,56 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
 
 /// Write cracks.csv: one row per requested crack tip per history time.
 pub fn write_tips(path: &Path, rows: &[TipResult]) -> anyhow::Result<()> {
+    write_rows(path, TipResult::HEADER, rows.iter().map(TipResult::csv))
+}
+
+/// Write a CSV file from its header and rows.
+fn write_rows(path: &Path, header: &str, rows: impl Iterator<Item = String>) -> anyhow::Result<()> {
     let mut f = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?);
-    writeln!(f, "{}", TipResult::HEADER)?;
+    writeln!(f, "{header}")?;
     for r in rows {
-        writeln!(f, "{}", r.csv())?;
+        writeln!(f, "{r}")?;
     }
     Ok(())
 }
 
+/// crack_paths.csv: every crack's polyline at the end of the run (crack particles in
+/// order; `crack,index,x,y`), the path a growing crack took.
+pub fn write_crack_paths(path: &Path, sim: &Simulation) -> anyhow::Result<()> {
+    let rows = sim.cracks.iter().enumerate().flat_map(|(c, cr)| cr.points.iter().enumerate().map(move |(k, p)| format!("{c},{k},{:e},{:e}", p.x, p.y)));
+    write_rows(path, "crack,index,x,y", rows)
+}
+
+/// The end state of one growing crack (summary.json).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct CrackGrowthSummary {
+    pub crack: usize,
+    /// Tracked length: initial polyline length plus every increment.
+    pub length: f64,
+    /// Per growing tip: which end, its advance, and its status (growing, edge, crackN).
+    pub tips: Vec<(String, f64, String)>,
+    /// Time at which the crack cut its body through.
+    pub split_time: Option<f64>,
+}
+
+impl CrackGrowthSummary {
+    pub fn of(sim: &Simulation) -> Vec<CrackGrowthSummary> {
+        let Some(g) = &sim.growth else { return Vec::new() };
+        g.cracks
+            .iter()
+            .map(|cg| CrackGrowthSummary {
+                crack: cg.crack,
+                length: cg.length(),
+                tips: cg.tips.iter().map(|t| (format!("{:?}", t.end).to_lowercase(), t.advance, t.status.label())).collect(),
+                split_time: cg.split,
+            })
+            .collect()
+    }
+}
+
 /// Write history.csv.
 pub fn write_history(path: &Path, rows: &[HistoryRow]) -> anyhow::Result<()> {
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?);
-    writeln!(f, "{}", HistoryRow::HEADER)?;
-    for r in rows {
-        writeln!(f, "{}", r.csv())?;
-    }
-    Ok(())
+    write_rows(path, HistoryRow::HEADER, rows.iter().map(HistoryRow::csv))
 }
 
 /// The snapshots of one archive time: `particles_NNNNN.vtk` and, when the scene has

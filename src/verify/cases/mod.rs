@@ -6,6 +6,7 @@ pub mod colliding_disks;
 pub mod crack_patch;
 pub mod fea;
 pub mod fracture;
+pub mod growth;
 pub mod impact;
 pub mod stability;
 pub mod vibrating_bar;
@@ -27,6 +28,9 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "cfl_sweep", run: stability::run_cfl_sweep },
     Case { name: "chen_early_time", run: fracture::run },
     Case { name: "dcb_k", run: fracture::run_dcb },
+    Case { name: "pmma_tpb", run: growth::run_tpb },
+    Case { name: "pmma_tpb_offcentre", run: growth::run_offcentre },
+    Case { name: "mode_ii_kink", run: growth::run_mode_ii },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },
 ];
