@@ -143,7 +143,7 @@ fn growth_is_identical_after_shuffling_particles() {
     let mut b = a.clone();
     let n = b.particles.len();
     // k ↦ 7919k + 13 mod n is a permutation when gcd(7919, n) = 1 (7919 is prime).
-    assert!(n % 7919 != 0);
+    assert!(!n.is_multiple_of(7919));
     let perm: Vec<usize> = (0..n).map(|k| (k * 7919 + 13) % n).collect();
     b.particles.permute(&perm);
     a.run_until(0.17, |_| {}).unwrap();

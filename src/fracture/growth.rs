@@ -320,7 +320,7 @@ impl Simulation {
     fn grow_cracks_with(&mut self, growth: &mut Growth) -> Result<(), GrowthError> {
         let h = self.grid.min_h();
         for cg in growth.cracks.iter_mut() {
-            if self.step_count % cg.settings.every != 0 {
+            if !self.step_count.is_multiple_of(cg.settings.every) {
                 continue;
             }
             let c = cg.crack;

@@ -266,9 +266,12 @@ pub fn run_offcentre(variant: Variant) -> anyhow::Result<CaseOutput> {
     Ok(out)
 }
 
-/// The first kink of each tip of the shear plate: (θ of the first increment in degrees,
-/// K_I/K_II there), for the end and start tips; and the run.
-pub fn mode_ii_kink(h: f64, end_time: f64, checked: bool) -> anyhow::Result<([(f64, f64); 2], RunResult, f64)> {
+/// The first kink of each tip of the shear plate, for the end and start tips.
+pub type Kinks = [(f64, f64); 2];
+
+/// The shear plate at cell size `h` run to `end_time`: per tip (end, start) the angle of
+/// the first increment in degrees and K_I/K_II there; the run; its wall time.
+pub fn mode_ii_kink(h: f64, end_time: f64, checked: bool) -> anyhow::Result<(Kinks, RunResult, f64)> {
     // K_Ic = 0.8 × (2/√3) τ√(πa): the tips start at ~80 % of the ramp.
     let kic = 0.8 * 2.0 / 3f64.sqrt() * (std::f64::consts::PI * 5.0).sqrt();
     let (r, wall) = run_growth(&shear_plate(h, kic, end_time), checked)?;
