@@ -189,7 +189,7 @@ impl Simulation {
         // The face at θ = +π (upper, +x₂′): `above` at the end tip, `below` at the start tip.
         let upper_is_above = end == TipEnd::End;
 
-        let path = self.contour_nodes(c, end, tip, contour)?;
+        let path = self.contour_nodes(c, end, tip, d + e2, contour)?;
         let pts = self.cut_contour(c, end, tip, &path, upper_is_above)?;
 
         // Line term, eq. 12: trapezoidal rule per segment with the segment's outward normal.
@@ -239,10 +239,25 @@ impl Simulation {
 
     /// The perimeter nodes of the n×n contour around the node nearest `tip`,
     /// counter-clockwise from the lower-left corner.
-    fn contour_nodes(&self, c: usize, end: TipEnd, tip: Vector, n: usize) -> Result<Vec<usize>, FractureError> {
+    ///
+    /// A tip exactly midway between two node lines is a tie; it is broken toward the tip's
+    /// own e₁′ + e₂′ (`bias`), so the choice turns with the crack: two tips related by a
+    /// rotation of the scene get rotated contours, and symmetric problems stay symmetric.
+    fn contour_nodes(&self, c: usize, end: TipEnd, tip: Vector, bias: Vector, n: usize) -> Result<Vec<usize>, FractureError> {
         let g = &self.grid;
-        let ix = ((tip.x - g.origin.x) / g.h.x).round() as i64;
-        let iy = ((tip.y - g.origin.y) / g.h.y).round() as i64;
+        let nearest = |u: f64, b: f64| {
+            if u - u.floor() == 0.5 && b != 0.0 {
+                if b > 0.0 {
+                    u.ceil()
+                } else {
+                    u.floor()
+                }
+            } else {
+                u.round()
+            }
+        };
+        let ix = nearest((tip.x - g.origin.x) / g.h.x, bias.x) as i64;
+        let iy = nearest((tip.y - g.origin.y) / g.h.y, bias.y) as i64;
         let ni = n as i64;
         if n == 0 || ix - ni < 0 || iy - ni < 0 || ix + ni > g.nx as i64 || iy + ni > g.ny as i64 {
             return Err(FractureError::ContourOutsideGrid { crack: c, end, x: tip.x, y: tip.y, n, ix, iy, nx: g.nx, ny: g.ny });
