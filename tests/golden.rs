@@ -59,5 +59,6 @@ golden_case!(
     dcb_k,
     pmma_tpb,
     pmma_tpb_offcentre,
-    mode_ii_kink
+    mode_ii_kink,
+    dcb_growth
 );

@@ -205,11 +205,11 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
 
 /// Young's modulus of the split beams (MPa).
 pub const E_BEAM: f64 = 2300.0;
-const NU_BEAM: f64 = 0.33;
+pub const NU_BEAM: f64 = 0.33;
 /// Arm thickness h (mm).
-const ARM: f64 = 12.0;
+pub const ARM: f64 = 12.0;
 /// Root-rotation correction χ of corrected beam theory (Williams 1989, ν = 0.33).
-const CHI: f64 = 0.6688;
+pub const CHI: f64 = 0.6688;
 
 /// How long and how damped a run must be to settle to the static solution.
 #[derive(Clone, Copy)]

@@ -31,6 +31,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "pmma_tpb", run: growth::run_tpb },
     Case { name: "pmma_tpb_offcentre", run: growth::run_offcentre },
     Case { name: "mode_ii_kink", run: growth::run_mode_ii },
+    Case { name: "dcb_growth", run: growth::run_dcb_growth },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },
 ];
