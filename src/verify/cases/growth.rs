@@ -285,7 +285,7 @@ pub fn run_offcentre(variant: Variant) -> anyhow::Result<CaseOutput> {
             let p = path(&r);
             let tip = *p.last().expect("a crack has points");
             out.measure("turns_toward_impact", &format!("h = {h} mm, {crit}"), tip.0, 0.0);
-            out.note(format!("h = {h} mm, {crit}: tip at ({:.2}, {:.2}) mm at 210 µs, growth {:.1} mm, {wall:.1} s wall", tip.0, tip.1, tip.1 - 50.0));
+            out.note(format!("h = {h} mm, {crit}: tip at ({:.2}, {:.2}) mm at 210 µs (risen {:.1} mm above the initial tip), {wall:.1} s wall", tip.0, tip.1, tip.1 - 50.0));
             series.push(Series::line(&format!("h = {h} mm, {crit}"), p.clone()).with_markers());
             paths.push(p);
         }
