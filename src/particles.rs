@@ -78,8 +78,8 @@ impl Particles {
     /// Reorder all arrays by `perm` (new index k takes old particle perm[k]). Used by the
     /// shuffle test that proves results do not depend on particle order.
     pub fn permute(&mut self, perm: &[usize]) {
-        fn apply<T: Clone>(v: &mut Vec<T>, perm: &[usize]) {
-            let old = v.clone();
+        fn apply<T: Clone>(v: &mut [T], perm: &[usize]) {
+            let old = v.to_vec();
             for (k, &p) in perm.iter().enumerate() {
                 v[k] = old[p].clone();
             }

@@ -506,7 +506,7 @@ impl Scene {
         for (i, l) in self.loads.iter().enumerate() {
             finite(&format!("loads[{i}].force[0]"), l.force[0])?;
             finite(&format!("loads[{i}].force[1]"), l.force[1])?;
-            if !(l.ramp >= 0.0) {
+            if l.ramp.is_nan() || l.ramp < 0.0 {
                 return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive, got {}", l.ramp)));
             }
         }

@@ -125,7 +125,7 @@ fn particle_outside_the_grid_is_named() {
 fn negative_particle_mass_gives_non_positive_nodal_mass() {
     let mut sim = block_after(1);
     let p = 40;
-    sim.particles.mass[p] = -1000.0 * sim.particles.mass[p];
+    sim.particles.mass[p] *= -1000.0;
     let touched = nodes_of(&sim, p);
     match sim.step() {
         Err(CheckError::NodalMass { step, node, field, mass }) => {
