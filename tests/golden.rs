@@ -51,10 +51,14 @@ golden_case!(
     impact_energy,
     colliding_disks,
     crack_patch,
+    cracked_disks,
+    crack_friction,
     fea_patch,
     fea_cantilever,
     fea_dcb,
     cfl_sweep,
     chen_early_time,
-    dcb_k
+    dcb_k,
+    plates_k,
+    mpm_vs_fea
 );

@@ -4,9 +4,11 @@
 
 pub mod colliding_disks;
 pub mod crack_patch;
+pub mod cracks;
 pub mod fea;
 pub mod fracture;
 pub mod impact;
+pub mod plates;
 pub mod stability;
 pub mod vibrating_bar;
 
@@ -21,12 +23,16 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "impact_energy", run: impact::run },
     Case { name: "colliding_disks", run: colliding_disks::run },
     Case { name: "crack_patch", run: crack_patch::run },
+    Case { name: "cracked_disks", run: cracks::run_disks },
+    Case { name: "crack_friction", run: cracks::run_friction },
     Case { name: "fea_patch", run: fea::run_patch },
     Case { name: "fea_cantilever", run: fea::run_cantilever },
     Case { name: "fea_dcb", run: fea::run_dcb },
     Case { name: "cfl_sweep", run: stability::run_cfl_sweep },
     Case { name: "chen_early_time", run: fracture::run },
     Case { name: "dcb_k", run: fracture::run_dcb },
+    Case { name: "plates_k", run: plates::run },
+    Case { name: "mpm_vs_fea", run: fea::run_mpm_vs_fea },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },
 ];
