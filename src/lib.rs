@@ -10,6 +10,7 @@
 //! * [`particles`] — material points, struct-of-arrays.
 //! * [`material`] — constitutive laws.
 //! * [`crack`] — crack geometry, line crossing, velocity fields, surfaces.
+//! * [`simd`] — runtime choice of AVX2 copies of the hot loops (same bits).
 //! * [`step`] — tasks 0–8 and the four update schemes (USL, MUSL, USF, USAVG).
 //! * [`check`] — invariant checks of the checked mode.
 //! * [`simulation`] — the state of a run and its time loop.
@@ -34,6 +35,7 @@ pub mod particles;
 pub mod report;
 pub mod scene;
 pub mod shape;
+pub mod simd;
 pub mod simulation;
 pub mod step;
 pub mod verify;

@@ -97,7 +97,7 @@ fn floor_to_isize(v: f64) -> isize {
 /// The non-zero 1D weights (value, derivative) along one axis and their node indices;
 /// returns how many.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn axis_weights(
     kind: ShapeKind,
     x: f64,
@@ -131,6 +131,22 @@ fn axis_weights(
 /// are dropped. Caller guarantees the particle is inside the grid (checked mode does).
 pub fn weights(grid: &Grid, kind: ShapeKind, x: &Vector, lp: &Vector) -> Weights {
     let mut w = Weights { n: 0, node: [0; MAX_NODES], s: [0.0; MAX_NODES], g: [Vector::zeros(); MAX_NODES] };
+    w.n = weights_into(grid, kind, x, lp, &mut w.node, &mut w.s, &mut w.g);
+    w
+}
+
+/// [`weights`] written straight into the first entries of `node`, `s` and `g` (the
+/// particle's stride of the pair arrays); returns how many.
+#[inline(always)]
+pub fn weights_into(
+    grid: &Grid,
+    kind: ShapeKind,
+    x: &Vector,
+    lp: &Vector,
+    node: &mut [u32; MAX_NODES],
+    s: &mut [f64; MAX_NODES],
+    g: &mut [Vector; MAX_NODES],
+) -> usize {
     let (rx, ry) = match kind {
         ShapeKind::Linear => (0.0, 0.0),
         ShapeKind::Ugimp => (lp.x, lp.y),
@@ -141,16 +157,16 @@ pub fn weights(grid: &Grid, kind: ShapeKind, x: &Vector, lp: &Vector) -> Weights
     let mut ny_idx = [0usize; 3];
     let kx = axis_weights(kind, x.x, grid.origin.x, grid.h.x, rx, lp.x, grid.nx, &mut sx, &mut nx_idx);
     let ky = axis_weights(kind, x.y, grid.origin.y, grid.h.y, ry, lp.y, grid.ny, &mut sy, &mut ny_idx);
+    let mut k = 0;
     for b in 0..ky {
         for a in 0..kx {
-            let k = w.n;
-            w.node[k] = grid.node_index(nx_idx[a], ny_idx[b]) as u32;
-            w.s[k] = sx[a].0 * sy[b].0;
-            w.g[k] = Vector::new(sx[a].1 * sy[b].0, sx[a].0 * sy[b].1);
-            w.n += 1;
+            node[k] = grid.node_index(nx_idx[a], ny_idx[b]) as u32;
+            s[k] = sx[a].0 * sy[b].0;
+            g[k] = Vector::new(sx[a].1 * sy[b].0, sx[a].0 * sy[b].1);
+            k += 1;
         }
     }
-    w
+    k
 }
 
 #[cfg(test)]

@@ -12,8 +12,13 @@
 //! * per-node and per-particle work runs in parallel with rayon: each node's or
 //!   particle's sums are independent, results are collected in index order into buffers
 //!   kept across steps ([`Scratch`]), and stored serially;
-//! * without cracks, and at the nodes no crack splits, the gathers are compiled without
-//!   velocity-field look-ups (`const` generics);
+//! * without cracks, and at the nodes and particles no crack splits, the gathers are
+//!   compiled without velocity-field look-ups (`const` generics);
+//! * the fast gathers and the shape functions also exist as copies compiled with AVX2
+//!   ([`avx2`], chosen at run time by [`crate::simd`]; the same IEEE operations, so the
+//!   same bits);
+//! * the crack field assignment runs in parallel and tests only the crack segments near
+//!   each particle–node pair ([`crate::crack::geometry::SegmentIndex`]);
 //! * invariant checks run only in checked mode; energies only at history rows.
 
 use crate::check::{CheckError, MASS_TOL, MOMENTUM_TOL, PARTITION_TOL};
@@ -26,6 +31,27 @@ use crate::shape::{self, ShapeKind, MAX_NODES};
 use crate::simulation::{Scheme, Simulation};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
+
+/// `simd!(on, avx2_call, baseline_call)`: the AVX2 copy ([`avx2`]) when `on` (the value
+/// of [`crate::simd::enabled`], read once per task), else the baseline code; both give
+/// the same bits.
+macro_rules! simd {
+    ($on:expr, $avx2:expr, $base:expr) => {{
+        #[cfg(target_arch = "x86_64")]
+        {
+            if $on {
+                // SAFETY: enabled() is true only on a CPU with AVX2.
+                unsafe { $avx2 }
+            } else {
+                $base
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            $base
+        }
+    }};
+}
 
 impl Simulation {
     /// Advance one time step (Tasks 0–8).
@@ -91,6 +117,7 @@ impl Simulation {
         let grid = &self.grid;
         let kind = self.options.shape;
         let checked = self.options.checked;
+        let avx = crate::simd::enabled();
         let p = &self.particles;
         let pairs = &mut self.pairs;
         let first_bad = (
@@ -106,12 +133,11 @@ impl Simulation {
                 if !inside_grid(grid, kind, &p.x[i], &p.lp[i]) {
                     return Some(i);
                 }
-                let w = shape::weights(grid, kind, &p.x[i], &p.lp[i]);
-                *count = w.n as u8;
-                node[..w.n].copy_from_slice(&w.node[..w.n]);
-                s[..w.n].copy_from_slice(&w.s[..w.n]);
-                g[..w.n].copy_from_slice(&w.g[..w.n]);
-                (checked && partition_of_unity_error(grid, &w).is_some()).then_some(i)
+                let (node, s, g): (&mut [u32; MAX_NODES], &mut [f64; MAX_NODES], &mut [Vector; MAX_NODES]) =
+                    (node.try_into().unwrap(), s.try_into().unwrap(), g.try_into().unwrap());
+                let n = simd!(avx, avx2::weights_into(grid, kind, &p.x[i], &p.lp[i], node, s, g), shape::weights_into(grid, kind, &p.x[i], &p.lp[i], node, s, g));
+                *count = n as u8;
+                (checked && partition_of_unity_error(grid, &s[..n], &g[..n]).is_some()).then_some(i)
             })
             .min();
         match first_bad {
@@ -141,7 +167,7 @@ impl Simulation {
             };
         }
         let w = shape::weights(grid, kind, &x, &p.lp[i]);
-        let (sum_s, gx, gy) = partition_of_unity_error(grid, &w).expect("task 0 reported this particle");
+        let (sum_s, gx, gy) = partition_of_unity_error(grid, &w.s[..w.n], &w.g[..w.n]).expect("task 0 reported this particle");
         CheckError::PartitionOfUnity { step, particle: i, id: p.id[i], sum_s, gx, gy }
     }
 
@@ -158,26 +184,17 @@ impl Simulation {
 
         let with_cracks = self.has_cracks();
         let nf = self.nodes.fields.len();
-        if with_cracks {
-            // Current area of each particle (eq. 25 per unit thickness), once per particle
-            // rather than once per pair.
-            let (p, thickness) = (&self.particles, &self.thickness);
-            (0..p.len())
-                .into_par_iter()
-                .with_min_len(PARTICLE_CHUNK)
-                .map(|i| p.volume(i) / thickness[p.body[i] as usize])
-                .collect_into_vec(&mut self.scratch.area);
-        }
         let mut sums = std::mem::take(&mut self.scratch.mass);
         let this = &*self;
+        let avx = crate::simd::enabled();
         this.nodes
             .active
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match (with_cracks, this.is_split(node)) {
-                (false, _) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
-                (true, false) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
-                (true, true) => fast_or_exact(|| this.node_mass::<FastSum<3>, FastSum<1>, true, true>(node), || this.node_mass::<ExactSums<3>, ExactSums<1>, true, true>(node)),
+                (false, _) => fast_or_exact(|| simd!(avx, avx2::node_mass::<false, false>(this, node), this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node)), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
+                (true, false) => fast_or_exact(|| simd!(avx, avx2::node_mass::<false, false>(this, node), this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node)), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
+                (true, true) => fast_or_exact(|| simd!(avx, avx2::node_mass::<true, true>(this, node), this.node_mass::<FastSum<3>, FastSum<1>, true, true>(node)), || this.node_mass::<ExactSums<3>, ExactSums<1>, true, true>(node)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -316,9 +333,10 @@ impl Simulation {
         let with_cracks = self.has_cracks();
         let mut grads = std::mem::take(&mut self.scratch.grad_v);
         let this = &*self;
-        let grad_v = |i: usize| match with_cracks {
-            false => fast_or_exact(|| this.velocity_gradient::<FastSum<4>, false>(i), || this.velocity_gradient::<ExactSums<4>, false>(i)),
-            true => fast_or_exact(|| this.velocity_gradient::<FastSum<4>, true>(i), || this.velocity_gradient::<ExactSums<4>, true>(i)),
+        let avx = crate::simd::enabled();
+        let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
+            false => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<false>(this, i), this.velocity_gradient::<FastSum<4>, false>(i)), || this.velocity_gradient::<ExactSums<4>, false>(i)),
+            true => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<true>(this, i), this.velocity_gradient::<FastSum<4>, true>(i)), || this.velocity_gradient::<ExactSums<4>, true>(i)),
         };
         // Velocity gradients first (reading the grid), then the particle updates.
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(grad_v).collect_into_vec(&mut grads);
@@ -346,13 +364,14 @@ impl Simulation {
         let has_ext = !self.loads.is_empty() || has_body;
         let mut sums = std::mem::take(&mut self.scratch.force);
         let this = &*self;
+        let avx = crate::simd::enabled();
         this.nodes
             .active
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match this.is_split(node) {
-                false => fast_or_exact(|| this.node_forces::<FastSum<2>, false>(node, has_ext, has_body), || this.node_forces::<ExactSums<2>, false>(node, has_ext, has_body)),
-                true => fast_or_exact(|| this.node_forces::<FastSum<2>, true>(node, has_ext, has_body), || this.node_forces::<ExactSums<2>, true>(node, has_ext, has_body)),
+                false => fast_or_exact(|| simd!(avx, avx2::node_forces::<false>(this, node, has_ext, has_body), this.node_forces::<FastSum<2>, false>(node, has_ext, has_body)), || this.node_forces::<ExactSums<2>, false>(node, has_ext, has_body)),
+                true => fast_or_exact(|| simd!(avx, avx2::node_forces::<true>(this, node, has_ext, has_body), this.node_forces::<FastSum<2>, true>(node, has_ext, has_body)), || this.node_forces::<ExactSums<2>, true>(node, has_ext, has_body)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -453,9 +472,10 @@ impl Simulation {
         let with_cracks = self.has_cracks();
         let mut incs = std::mem::take(&mut self.scratch.increments);
         let this = &*self;
-        let increments = |i: usize| match with_cracks {
-            false => fast_or_exact(|| this.particle_increments::<FastSum<4>, false>(i), || this.particle_increments::<ExactSums<4>, false>(i)),
-            true => fast_or_exact(|| this.particle_increments::<FastSum<4>, true>(i), || this.particle_increments::<ExactSums<4>, true>(i)),
+        let avx = crate::simd::enabled();
+        let increments = |i: usize| match with_cracks && this.is_split_particle(i) {
+            false => fast_or_exact(|| simd!(avx, avx2::particle_increments::<false>(this, i), this.particle_increments::<FastSum<4>, false>(i)), || this.particle_increments::<ExactSums<4>, false>(i)),
+            true => fast_or_exact(|| simd!(avx, avx2::particle_increments::<true>(this, i), this.particle_increments::<FastSum<4>, true>(i)), || this.particle_increments::<ExactSums<4>, true>(i)),
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
@@ -491,13 +511,14 @@ impl Simulation {
         let nf = self.nodes.fields.len();
         let mut sums = std::mem::take(&mut self.scratch.momentum);
         let this = &*self;
+        let avx = crate::simd::enabled();
         this.nodes
             .active
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match this.is_split(node) {
-                false => fast_or_exact(|| this.node_momentum::<FastSum<2>, false>(node), || this.node_momentum::<ExactSums<2>, false>(node)),
-                true => fast_or_exact(|| this.node_momentum::<FastSum<2>, true>(node), || this.node_momentum::<ExactSums<2>, true>(node)),
+                false => fast_or_exact(|| simd!(avx, avx2::node_momentum::<false>(this, node), this.node_momentum::<FastSum<2>, false>(node)), || this.node_momentum::<ExactSums<2>, false>(node)),
+                true => fast_or_exact(|| simd!(avx, avx2::node_momentum::<true>(this, node), this.node_momentum::<FastSum<2>, true>(node)), || this.node_momentum::<ExactSums<2>, true>(node)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -638,12 +659,22 @@ impl Simulation {
         self.has_cracks() && self.nodes.crack[node as usize] != u16::MAX
     }
 
+    /// May the pairs of particle `i` be in fields other than 0? Not if Task 1's crossing
+    /// tests gave every one of them field 0 (`scratch.split`, written by
+    /// [`Simulation::assign_velocity_fields`] each step; when it is not there — node
+    /// visibility, or a copy of the simulation that has not run Task 1 — assume they may).
+    #[inline]
+    fn is_split_particle(&self, i: usize) -> bool {
+        self.scratch.split.get(i).copied().unwrap_or(true)
+    }
+
     /// Task 1 at one node: mass and momentum per field (eq. 26), and the nodal area per
     /// unit thickness (eq. 27) for contact.
     ///
     /// `FIELDS = false` for a node no crack splits (every pair in field 0); `VOLUME` at the
     /// nodes a crack splits, the only ones where contact reads the nodal volume (NaN
     /// elsewhere: not computed).
+    #[inline(always)]
     fn node_mass<A3: Accumulator<3>, A1: Accumulator<1>, const FIELDS: bool, const VOLUME: bool>(&self, node: u32) -> Option<NodeMass> {
         let (p, pairs) = (&self.particles, &self.pairs);
         let mut acc: [A3; MAX_FIELDS] = Default::default();
@@ -659,7 +690,10 @@ impl Simulation {
             acc[f].add([m * s, m * p.v[pp].x * s, m * p.v[pp].y * s]);
             if VOLUME {
                 // Nodal area (eq. 27 per unit thickness), compared with the cell area.
-                vol.add([self.scratch.area[pp] * s]);
+                // The particle's current area, eq. 25 per unit thickness (only the pairs of
+                // split nodes need it).
+                let area = p.volume(pp) / self.thickness[p.body[pp] as usize];
+                vol.add([area * s]);
             }
         }
         let mut out = NodeMass { present, ..Default::default() };
@@ -673,6 +707,7 @@ impl Simulation {
     }
 
     /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
+    #[inline(always)]
     fn node_forces<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce> {
         let (p, pairs) = (&self.particles, &self.pairs);
         let mut int: [A; MAX_FIELDS] = Default::default();
@@ -714,6 +749,7 @@ impl Simulation {
     }
 
     /// Task 6c at one node: momentum per field from the new particle velocities (eq. 31).
+    #[inline(always)]
     fn node_momentum<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32) -> Option<[Vector; MAX_FIELDS]> {
         let (p, pairs) = (&self.particles, &self.pairs);
         let mut acc: [A; MAX_FIELDS] = Default::default();
@@ -736,6 +772,7 @@ impl Simulation {
 
     /// Velocity gradient at particle `i` (eq. 36): Σ v_i ⊗ G_ip over its pairs, each in
     /// the pair's own velocity field.
+    #[inline(always)]
     fn velocity_gradient<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<Tensor> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
         let mut l = A::default();
@@ -751,6 +788,7 @@ impl Simulation {
 
     /// Task 5 at particle `i` (eq. 30): (Σ S v_i, Σ S a_i) over its pairs, the velocity
     /// that moves the particle and the acceleration that updates its velocity.
+    #[inline(always)]
     fn particle_increments<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<(Vector, Vector)> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
         let mut s = A::default();
@@ -767,13 +805,61 @@ impl Simulation {
 
 /// The fast sums if they certify their results, else the exact ones (which always do).
 /// Both give the correctly rounded sums, so the bits do not depend on which was used.
-#[inline]
+#[inline(always)]
 fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
     fast().or_else(exact).expect("ExactSum always certifies its sums")
 }
 
+/// Copies of the fast (certified-sum) gathers and of the shape functions compiled with
+/// AVX2 (see [`crate::simd`]): each is the baseline function inlined (`#[inline(always)]`)
+/// into a function with the `avx2` target feature, so the same IEEE operations run on
+/// wider registers and give the same bits.
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::*;
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn node_mass<const FIELDS: bool, const VOLUME: bool>(s: &Simulation, node: u32) -> Option<NodeMass> {
+        s.node_mass::<FastSum<3>, FastSum<1>, FIELDS, VOLUME>(node)
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn node_forces<const CRACKS: bool>(s: &Simulation, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce> {
+        s.node_forces::<FastSum<2>, CRACKS>(node, has_ext, has_body)
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn node_momentum<const CRACKS: bool>(s: &Simulation, node: u32) -> Option<[Vector; MAX_FIELDS]> {
+        s.node_momentum::<FastSum<2>, CRACKS>(node)
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn velocity_gradient<const CRACKS: bool>(s: &Simulation, i: usize) -> Option<Tensor> {
+        s.velocity_gradient::<FastSum<4>, CRACKS>(i)
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn particle_increments<const CRACKS: bool>(s: &Simulation, i: usize) -> Option<(Vector, Vector)> {
+        s.particle_increments::<FastSum<4>, CRACKS>(i)
+    }
+
+    #[target_feature(enable = "avx2")]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn weights_into(
+        grid: &Grid,
+        kind: ShapeKind,
+        x: &Vector,
+        lp: &Vector,
+        node: &mut [u32; MAX_NODES],
+        s: &mut [f64; MAX_NODES],
+        g: &mut [Vector; MAX_NODES],
+    ) -> usize {
+        shape::weights_into(grid, kind, x, lp, node, s, g)
+    }
+}
+
 /// Smallest number of particles a parallel task takes (keeps rayon's overhead small).
-const PARTICLE_CHUNK: usize = 256;
+pub(crate) const PARTICLE_CHUNK: usize = 256;
 /// Smallest number of active nodes a parallel task takes.
 const NODE_CHUNK: usize = 64;
 
@@ -790,10 +876,10 @@ fn inside_grid(grid: &Grid, kind: ShapeKind, x: &Vector, lp: &Vector) -> bool {
 
 /// Checked mode: (ΣS, ΣGx, ΣGy) if the weights break the partition of unity, else None.
 #[inline]
-fn partition_of_unity_error(grid: &Grid, w: &shape::Weights) -> Option<(f64, f64, f64)> {
-    let sum_s = crate::exact::sum(&w.s[..w.n]);
-    let gx = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.x));
-    let gy = crate::exact::sum_iter(w.g[..w.n].iter().map(|g| g.y));
+fn partition_of_unity_error(grid: &Grid, s: &[f64], g: &[Vector]) -> Option<(f64, f64, f64)> {
+    let sum_s = crate::exact::sum(s);
+    let gx = crate::exact::sum_iter(g.iter().map(|g| g.x));
+    let gy = crate::exact::sum_iter(g.iter().map(|g| g.y));
     let gtol = PARTITION_TOL / grid.min_h();
     ((sum_s - 1.0).abs() > PARTITION_TOL || gx.abs() > gtol || gy.abs() > gtol).then_some((sum_s, gx, gy))
 }
@@ -823,14 +909,17 @@ pub struct Scratch {
     pub momentum: Vec<[Vector; MAX_FIELDS]>,
     pub grad_v: Vec<Tensor>,
     pub increments: Vec<(Vector, Vector)>,
-    /// Current particle areas (volume per unit thickness), with cracks.
-    pub area: Vec<f64>,
     /// CSR build: pairs per node of each particle chunk, then the chunks' write cursors.
     pub chunk_counts: Vec<Vec<u32>>,
     /// CSR build: the pair slots, written by the chunks in parallel.
     pub slots: Vec<AtomicU32>,
     /// Particles with a load or a body force this step, ascending.
     pub forced: Vec<u32>,
+    /// Task 1 with cracks: each crack's segment index, the crack each split pair crossed,
+    /// and per particle whether any of its pairs is split.
+    pub crack_index: Vec<crate::crack::geometry::SegmentIndex>,
+    pub pair_crack: Vec<u16>,
+    pub split: Vec<bool>,
 }
 
 /// Every buffer is refilled before it is read within a step, so a copy of a simulation

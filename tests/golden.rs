@@ -51,6 +51,8 @@ golden_case!(
     impact_energy,
     colliding_disks,
     crack_patch,
+    cracked_disks,
+    crack_friction,
     fea_patch,
     fea_cantilever,
     fea_dcb,
@@ -60,5 +62,7 @@ golden_case!(
     pmma_tpb,
     pmma_tpb_offcentre,
     mode_ii_kink,
-    dcb_growth
+    dcb_growth,
+    plates_k,
+    mpm_vs_fea
 );

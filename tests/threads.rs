@@ -8,7 +8,8 @@
 //! 300 steps (through the first stress waves, where the exact-sum fallback is used most).
 //! Run in a 1-thread and in a 2-thread rayon pool (and a 3-thread one, which splits the
 //! work unevenly), then compare every particle's position, velocity, stress, strain and
-//! displacement gradient, the crack particles and surfaces, and the energies.
+//! displacement gradient, the crack particles and surfaces, and the energies. The same
+//! comparison between the AVX2 and the baseline copies of the hot loops (src/simd.rs).
 
 use cramp::scene::Scene;
 use cramp::simulation::Simulation;
@@ -69,4 +70,22 @@ fn one_two_and_three_threads_give_identical_bits() {
         assert_eq!(first_diff, None, "{threads} threads differ from 1 at value {first_diff:?}");
         assert_eq!(reference.len(), other.len());
     }
+}
+
+/// The AVX2 copies of the hot loops (src/simd.rs) give the bits of the baseline code: the
+/// same scene with them switched off and on. On a CPU without AVX2 both runs are
+/// baseline and the test says so.
+#[test]
+fn avx2_and_baseline_code_give_identical_bits() {
+    cramp::simd::set_enabled(false);
+    assert!(!cramp::simd::enabled());
+    let baseline = bits(&run_in_pool(2));
+    cramp::simd::set_enabled(true);
+    if !cramp::simd::enabled() {
+        println!("this CPU has no AVX2: only the baseline code ran");
+    }
+    let wide = bits(&run_in_pool(2));
+    let first_diff = baseline.iter().zip(&wide).position(|(a, b)| a != b);
+    assert_eq!(first_diff, None, "AVX2 code differs from baseline at value {first_diff:?}");
+    assert_eq!(baseline.len(), wide.len());
 }

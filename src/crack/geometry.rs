@@ -229,6 +229,57 @@ impl Extent {
     }
 }
 
+/// The bounding boxes of a polyline's segments, grouped in chunks of consecutive
+/// segments with a box each, to find the segments near a box without testing them all
+/// (the line-crossing test and the side tests near a long crack). Rebuilt from the
+/// crack's points whenever they move; the buffers are kept.
+#[derive(Clone, Debug, Default)]
+pub struct SegmentIndex {
+    chunk: usize,
+    chunks: Vec<Extent>,
+    segs: Vec<Extent>,
+}
+
+impl SegmentIndex {
+    /// The index of the polyline `points` (segment i joins points i and i + 1).
+    pub fn of(points: &[Vector]) -> Self {
+        let mut s = SegmentIndex::default();
+        s.rebuild(points);
+        s
+    }
+
+    /// Rebuild for `points`, reusing the buffers.
+    pub fn rebuild(&mut self, points: &[Vector]) {
+        let n = points.len().saturating_sub(1);
+        // About √n chunks of about √n segments: both levels cost O(√n) per query.
+        self.chunk = ((n as f64).sqrt().ceil() as usize).max(8);
+        self.segs.clear();
+        self.segs.extend(points.windows(2).map(Extent::of));
+        self.chunks.clear();
+        self.chunks.extend(self.segs.chunks(self.chunk).map(|c| {
+            let mut e = Extent::EMPTY;
+            for s in c {
+                e.include(s.min);
+                e.include(s.max);
+            }
+            e
+        }));
+    }
+
+    /// The segments whose closed bounding box meets the closed box [lo, hi], ascending.
+    /// Exact (comparisons only).
+    #[inline]
+    pub fn near(&self, lo: Vector, hi: Vector) -> impl Iterator<Item = usize> + Clone + '_ {
+        let meets = move |e: &Extent| !(hi.x < e.min.x || lo.x > e.max.x || hi.y < e.min.y || lo.y > e.max.y);
+        let chunk = self.chunk;
+        self.chunks.iter().enumerate().filter(move |(_, e)| meets(e)).flat_map(move |(c, _)| {
+            let start = c * chunk;
+            let end = (start + chunk).min(self.segs.len());
+            (start..end).filter(move |&i| meets(&self.segs[i]))
+        })
+    }
+}
+
 // ---------------------------------------------------------------------------------
 // Subtasks 2–3: one segment, the paper's eight sign patterns
 // ---------------------------------------------------------------------------------
@@ -435,6 +486,27 @@ fn wedge_side(a: Vector, v: Vector, b: Vector, p: Vector) -> Side {
 ///
 /// Zero-length segments (repeated points) are skipped.
 pub fn crossing_detail(points: &[Vector], extent: &Extent, xp: Vector, xn: Vector) -> Option<Crossing> {
+    crossing_over(points, extent, 0..points.len().saturating_sub(1), xp, xn)
+}
+
+/// [`crossing_detail`] testing only the segments that `index` (built from `points`) finds
+/// near the particle–node rectangle — the same result, since only a segment that meets the
+/// closed segment particle → node is ever counted, and only a crack point on it (the end
+/// of such a segment) decides a touching case.
+#[inline]
+pub fn crossing_detail_indexed(points: &[Vector], extent: &Extent, index: &SegmentIndex, xp: Vector, xn: Vector) -> Option<Crossing> {
+    if points.len() < 2 || !extent.overlaps_rect(xp, xn) {
+        return None;
+    }
+    crossing_over(points, extent, index.near(xp.inf(&xn), xp.sup(&xn)), xp, xn)
+}
+
+/// [`crossing_detail`] over the segments `segs` (segment i joins points i and i + 1),
+/// in ascending order: they must include every segment that meets the closed segment
+/// particle → node. Each segment's verdict depends on that segment alone, and the
+/// crack points that can decide a touching case are ends of such segments, so testing a
+/// superset of them in crack order gives the result of testing all.
+fn crossing_over<I: Iterator<Item = usize> + Clone>(points: &[Vector], extent: &Extent, segs: I, xp: Vector, xn: Vector) -> Option<Crossing> {
     if points.len() < 2 || !extent.overlaps_rect(xp, xn) {
         return None;
     }
@@ -454,15 +526,20 @@ pub fn crossing_detail(points: &[Vector], extent: &Extent, xp: Vector, xn: Vecto
 
     // --- segments whose ends are strictly on opposite sides of L
     let mut any_on_line = false;
-    let mut o_prev = orientation(xp, xn, points[0]);
-    if o_prev == Sign::Zero {
-        any_on_line = true;
-    }
-    for i in 0..points.len() - 1 {
+    // The orientation of the last segment's far end, reused when the next segment starts there.
+    let mut o_prev: Option<(usize, Sign)> = None;
+    for i in segs.clone() {
         let (x3, x4) = (points[i], points[i + 1]);
-        let a = o_prev;
+        let a = match o_prev {
+            Some((j, o)) if j == i => o,
+            _ => {
+                let o = orientation(xp, xn, x3);
+                any_on_line |= o == Sign::Zero;
+                o
+            }
+        };
         let b = orientation(xp, xn, x4);
-        o_prev = b;
+        o_prev = Some((i + 1, b));
         if b == Sign::Zero {
             any_on_line = true;
         }
@@ -492,10 +569,15 @@ pub fn crossing_detail(points: &[Vector], extent: &Extent, xp: Vector, xn: Vecto
         }
     }
 
-    // --- crack points exactly on L (rare: only evaluated when one exists)
+    // --- crack points exactly on L (rare: only evaluated when one exists), the ends of
+    // the tested segments in ascending order, each once
     if any_on_line {
-        let n = points.len();
-        for j in 0..n {
+        let mut last = usize::MAX;
+        for j in segs.flat_map(|i| [i, i + 1]) {
+            if j == last {
+                continue;
+            }
+            last = j;
             let v = points[j];
             if j > 0 && points[j - 1] == v {
                 continue; // repeated point, handled at its first copy
@@ -1065,6 +1147,50 @@ mod tests {
                 .filter(|w| segment_intersection(xp, xn, w[0], w[1]).is_some())
                 .count();
             assert_eq!(cross(&crack, xp, xn) != Side::None, k % 2 == 1);
+        }
+    }
+
+    /// The indexed crossing test gives the full result (side, count and deciding site) for
+    /// random polylines and for polylines and pairs on a small integer lattice, where
+    /// crack points on the particle–node line, nodes on the crack, repeated points and
+    /// collinear segments are frequent; long polylines use several index chunks.
+    #[test]
+    fn indexed_crossing_equals_the_full_scan() {
+        let mut rng = Rng(77);
+        for trial in 0..20000 {
+            let lattice = trial % 2 == 0;
+            let n = 2 + (rng.next() % if trial % 10 == 0 { 200 } else { 12 }) as usize;
+            let pt = |rng: &mut Rng| if lattice { v(rng.int(4) as f64 * 0.5, rng.int(4) as f64 * 0.5) } else { v(rng.unit() * 4.0 - 2.0, rng.unit() * 4.0 - 2.0) };
+            let crack: Vec<Vector> = (0..n).map(|_| pt(&mut rng)).collect();
+            let ext = Extent::of(&crack);
+            let index = SegmentIndex::of(&crack);
+            for _ in 0..10 {
+                let (xp, xn) = (pt(&mut rng), pt(&mut rng));
+                assert_eq!(
+                    crossing_detail_indexed(&crack, &ext, &index, xp, xn),
+                    crossing_detail(&crack, &ext, xp, xn),
+                    "crack {crack:?}, particle {xp:?}, node {xn:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn segment_index_finds_exactly_the_segments_whose_box_meets_the_query() {
+        let mut rng = Rng(5);
+        for _ in 0..2000 {
+            let n = 2 + (rng.next() % 300) as usize;
+            let crack: Vec<Vector> = (0..n).map(|_| v(rng.unit() * 10.0, rng.unit() * 10.0)).collect();
+            let index = SegmentIndex::of(&crack);
+            let (a, b) = (v(rng.unit() * 10.0, rng.unit() * 10.0), v(rng.unit() * 10.0, rng.unit() * 10.0));
+            let (lo, hi) = (a.inf(&b), a.sup(&b));
+            let want: Vec<usize> = (0..n - 1)
+                .filter(|&i| {
+                    let e = Extent::of(&crack[i..i + 2]);
+                    !(hi.x < e.min.x || lo.x > e.max.x || hi.y < e.min.y || lo.y > e.max.y)
+                })
+                .collect();
+            assert_eq!(index.near(lo, hi).collect::<Vec<_>>(), want);
         }
     }
 

@@ -9,10 +9,11 @@ mod visibility;
 
 use crate::check::CheckError;
 use crate::dim::Vector;
-use crate::exact::ExactSum;
+use crate::exact::{Accumulator, ExactSums, FastSum};
 use crate::shape::{self, ShapeKind, MAX_NODES};
 use crate::simulation::Simulation;
 use geometry::{Extent, Side};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// How the two faces of a crack interact where they touch (Nairn 2003 §2.2).
@@ -148,44 +149,77 @@ impl Simulation {
     ///
     /// The gathers rely on this: a pair gets a field other than 0 only at a node whose
     /// crack is recorded in `nodes.crack` (see `step::is_split`).
+    ///
+    /// In parallel over particles (each writes only its own pairs' fields, and the crack
+    /// each crossed), then the nodes' cracks are recorded serially in particle order, so
+    /// a conflict is reported for the same pair as a serial loop would. Each crossing test
+    /// looks only at the segments near the particle–node rectangle
+    /// ([`geometry::SegmentIndex`]; same result as testing every segment).
     pub(crate) fn assign_velocity_fields(&mut self) -> Result<(), CheckError> {
         let grid = &self.grid;
         let p = &self.particles;
         let pairs = &mut self.pairs;
-        let node_crack = &mut self.nodes.crack;
-        node_crack.fill(u16::MAX);
+        let scratch = &mut self.scratch;
+        let cracks = &self.cracks;
+        scratch.crack_index.resize_with(cracks.len(), Default::default);
+        for (index, crack) in scratch.crack_index.iter_mut().zip(cracks) {
+            index.rebuild(&crack.points);
+        }
+        let index = &scratch.crack_index;
+        scratch.pair_crack.resize(pairs.field.len(), 0);
         // A particle's nodes lie within h + l_p of it per axis: a node has a weight only if
         // the rounded distance fl(x_p − x_n) is below h + l_p, and the rounding is at most
         // a relative 2^−53; the factor 1 + 10⁻⁹ covers it (and the rounding of the bound).
         let reach = (grid.h + p.lp.iter().fold(Vector::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
-        for i in 0..p.len() {
-            let base = i * MAX_NODES;
-            let xp = p.x[i];
-            // Screening by crack extent, per particle: if the box around the particle that
-            // holds all its nodes misses every crack's bounding box, so does every
-            // particle–node rectangle of Subtask 1, and all its pairs are in field 0.
-            if self.cracks.iter().all(|c| !near_extent(&c.extent, xp, reach)) {
-                pairs.field[base..base + pairs.count[i] as usize].fill(0);
-                continue;
-            }
-            for k in base..base + pairs.count[i] as usize {
-                let node = pairs.node[k] as usize;
-                let xn = grid.node_pos(node);
-                let mut field = 0u8;
-                for (c, crack) in self.cracks.iter().enumerate() {
-                    let side = geometry::crossing(&crack.points, &crack.extent, xp, xn);
-                    if side == Side::None {
-                        continue;
-                    }
-                    let nc = node_crack[node];
-                    if nc != u16::MAX && nc as usize != c {
-                        return Err(CheckError::TooManyFields { step: self.step_count, node, cracks: vec![nc as usize, c] });
-                    }
-                    node_crack[node] = c as u16;
-                    field = field_of(side);
-                    break;
+        let (count, node) = (&pairs.count, &pairs.node);
+        (pairs.field.par_chunks_mut(MAX_NODES), scratch.pair_crack.par_chunks_mut(MAX_NODES))
+            .into_par_iter()
+            .with_min_len(crate::step::PARTICLE_CHUNK)
+            .enumerate()
+            .map(|(i, (field, pair_crack))| {
+                let field: &mut [u8; MAX_NODES] = field.try_into().expect("a stride of the pair arrays");
+                let n = count[i] as usize;
+                let xp = p.x[i];
+                // Screening by crack extent, per particle: if the box around the particle that
+                // holds all its nodes misses every crack's bounding box, so does every
+                // particle–node rectangle of Subtask 1, and all its pairs are in field 0.
+                if cracks.iter().all(|c| !near_extent(&c.extent, xp, reach)) {
+                    // The whole stride (a fixed length: no call to memset).
+                    field.fill(0);
+                    return false;
                 }
-                pairs.field[k] = field;
+                let mut split = false;
+                for k in 0..n {
+                    let xn = grid.node_pos(node[i * MAX_NODES + k] as usize);
+                    field[k] = 0;
+                    for (c, crack) in cracks.iter().enumerate() {
+                        let side = geometry::crossing_detail_indexed(&crack.points, &crack.extent, &index[c], xp, xn)
+                            .map_or(Side::None, |x| x.side);
+                        if side != Side::None {
+                            field[k] = field_of(side);
+                            pair_crack[k] = c as u16;
+                            split = true;
+                            break;
+                        }
+                    }
+                }
+                split
+            })
+            .collect_into_vec(&mut scratch.split);
+        // The crack that split each node; two different cracks at one node stop the run.
+        let node_crack = &mut self.nodes.crack;
+        node_crack.fill(u16::MAX);
+        for i in (0..p.len()).filter(|&i| scratch.split[i]) {
+            for k in pairs.of_particle(i) {
+                if pairs.field[k] == 0 {
+                    continue;
+                }
+                let (node, c) = (pairs.node[k] as usize, scratch.pair_crack[k]);
+                let nc = node_crack[node];
+                if nc != u16::MAX && nc != c {
+                    return Err(CheckError::TooManyFields { step: self.step_count, node, cracks: vec![nc as usize, c as usize] });
+                }
+                node_crack[node] = c;
             }
         }
         Ok(())
@@ -203,8 +237,14 @@ impl Simulation {
                 return Err(CheckError::TooManyFields { step: self.step_count, node: i, cracks: vec![c] });
             }
             if present.count_ones() == 2 {
-                let crack = &self.cracks[self.nodes.crack[i] as usize];
-                self.nodes.normal[i] = nearest_segment_normal(&crack.points, self.grid.node_pos(i));
+                let c = self.nodes.crack[i] as usize;
+                let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
+                let points = &self.cracks[c].points;
+                let x = self.grid.node_pos(i);
+                self.nodes.normal[i] = match self.scratch.crack_index.get(c) {
+                    Some(index) => nearest_segment_normal(points, index, x, reach),
+                    None => nearest_of(points, 0..points.len().saturating_sub(1), x).1,
+                };
             }
         }
         Ok(())
@@ -223,21 +263,16 @@ impl Simulation {
         let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
         // Moved in place: the cracks are taken out while the grid and nodes are read.
         let mut cracks = std::mem::take(&mut self.cracks);
+        let mut indices = std::mem::take(&mut self.scratch.crack_index);
+        indices.resize_with(cracks.len(), Default::default);
         let this: &Simulation = self;
         // Velocity at x from the nodes' fields chosen by `field(i)`, renormalised.
         let velocity = |x: &Vector, field: &dyn Fn(usize) -> Option<Vector>| -> Vector {
             let w = shape::weights(&this.grid, ShapeKind::Linear, x, &zero);
-            let (mut sx, mut sy, mut sw) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
-            for k in 0..w.n {
-                if let Some(v) = field(w.node[k] as usize) {
-                    sx.add(w.s[k] * v.x);
-                    sy.add(w.s[k] * v.y);
-                    sw.add(w.s[k]);
-                }
-            }
-            let ws = sw.value();
+            // Σ S v (x, y) and Σ S over the nodes with the field, correctly rounded.
+            let [sx, sy, ws] = weighted_sum::<FastSum<3>>(&w, field).or_else(|| weighted_sum::<ExactSums<3>>(&w, field)).expect("exact sums certify");
             if ws > 0.0 {
-                Vector::new(sx.value(), sy.value()) / ws
+                Vector::new(sx, sy) / ws
             } else {
                 zero
             }
@@ -247,8 +282,11 @@ impl Simulation {
             // The surfaces first: their fields are found against the crack before it moves.
             {
                 let points = &crack.points;
+                let index = &mut indices[c];
+                index.rebuild(points);
+                let index = &*index;
                 let side = |i: usize, above: bool| {
-                    this.surface_field(c, points, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i])
+                    this.surface_field(c, points, index, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i])
                 };
                 for (x, above) in crack.above.iter_mut().map(|x| (x, true)).chain(crack.below.iter_mut().map(|x| (x, false))) {
                     *x += velocity(x, &|i| side(i, above)) * dt;
@@ -260,24 +298,27 @@ impl Simulation {
             crack.extent = Extent::of(&crack.points);
         }
         self.cracks = cracks;
+        self.scratch.crack_index = indices;
     }
 
     /// Centre-of-mass velocity of node i over its fields (eq. 32), None without mass.
     fn centre_of_mass_velocity(&self, i: usize) -> Option<Vector> {
-        let nodes = &self.nodes;
-        let present = nodes.present[i];
+        let present = self.nodes.present[i];
         if present == 0 {
             return None;
         }
-        let (mut m, mut px, mut py) = (ExactSum::new(), ExactSum::new(), ExactSum::new());
-        for (f, fa) in nodes.fields.iter().enumerate() {
-            if present & (1 << f) != 0 {
-                m.add(fa.mass[i]);
-                px.add(fa.mom[i].x);
-                py.add(fa.mom[i].y);
+        // Σ p (x, y) and Σ m over the fields present, correctly rounded.
+        fn sums<A: Accumulator<3>>(nodes: &crate::grid::Nodes, present: u8, i: usize) -> Option<[f64; 3]> {
+            let mut a = A::default();
+            for (f, fa) in nodes.fields.iter().enumerate() {
+                if present & (1 << f) != 0 {
+                    a.add([fa.mom[i].x, fa.mom[i].y, fa.mass[i]]);
+                }
             }
+            a.certified()
         }
-        Some(Vector::new(px.value(), py.value()) / m.value())
+        let [px, py, m] = sums::<FastSum<3>>(&self.nodes, present, i).or_else(|| sums::<ExactSums<3>>(&self.nodes, present, i)).expect("exact sums certify");
+        Some(Vector::new(px, py) / m)
     }
 
     /// The field of node i that holds the material on one side (`above`) of crack `c`,
@@ -287,7 +328,7 @@ impl Simulation {
     /// follows from its fields when the crack split it ({0,1}: below; {0,2}: above;
     /// {1,2}: on the crack) and from the geometry otherwise; a node whose side is
     /// unknown (ahead of a tip, or far) gives field 0.
-    pub(crate) fn surface_field(&self, c: usize, points: &[Vector], i: usize, above: bool, reach: f64) -> Option<usize> {
+    pub(crate) fn surface_field(&self, c: usize, points: &[Vector], index: &geometry::SegmentIndex, i: usize, above: bool, reach: f64) -> Option<usize> {
         let nodes = &self.nodes;
         let present = nodes.present[i];
         let has = |f: usize| present & (1 << f) != 0;
@@ -304,7 +345,7 @@ impl Simulation {
             (false, true, true) => return Some(across),
             (false, true, false) => Some(false),
             (false, false, true) => Some(true),
-            _ => match side_of(points, self.grid.node_pos(i), reach) {
+            _ => match side_of(points, index, self.grid.node_pos(i), reach) {
                 1 => Some(true),
                 -1 => Some(false),
                 _ => None,
@@ -330,7 +371,11 @@ impl Simulation {
         if self.crack_side.len() != p.len() * nc {
             self.crack_side = vec![0; p.len() * nc];
         }
+        let mut index = std::mem::take(&mut self.scratch.crack_index);
+        index.resize_with(nc, Default::default);
         for (c, crack) in self.cracks.iter().enumerate() {
+            let index = &mut index[c];
+            index.rebuild(&crack.points);
             let mut ext = crack.extent;
             ext.min -= Vector::new(reach, reach);
             ext.max += Vector::new(reach, reach);
@@ -340,7 +385,7 @@ impl Simulation {
                 let side = if x.x < ext.min.x || x.x > ext.max.x || x.y < ext.min.y || x.y > ext.max.y {
                     0
                 } else {
-                    side_of(&crack.points, x, reach)
+                    side_of(&crack.points, index, x, reach)
                 };
                 let before = self.crack_side[slot];
                 if before != 0 && side != 0 && side != before {
@@ -349,8 +394,20 @@ impl Simulation {
                 self.crack_side[slot] = side;
             }
         }
+        self.scratch.crack_index = index;
         Ok(())
     }
+}
+
+/// Σ S_k v_k (x and y) and Σ S_k over the nodes k of `w` where `field` gives a velocity.
+fn weighted_sum<A: Accumulator<3>>(w: &shape::Weights, field: &dyn Fn(usize) -> Option<Vector>) -> Option<[f64; 3]> {
+    let mut a = A::default();
+    for k in 0..w.n {
+        if let Some(v) = field(w.node[k] as usize) {
+            a.add([w.s[k] * v.x, w.s[k] * v.y, w.s[k]]);
+        }
+    }
+    a.certified()
 }
 
 /// Does the closed box `x ± reach` meet the closed extent?
@@ -361,9 +418,16 @@ fn near_extent(e: &Extent, x: Vector, reach: Vector) -> bool {
 
 /// +1 if `x` is left of (above) the nearest segment whose interior it projects onto
 /// within `reach`, −1 if right of (below), 0 if unknown (beyond the tips or far).
-fn side_of(points: &[Vector], x: Vector, reach: f64) -> i8 {
+///
+/// Only the segments `index` (of `points`) finds within 2·reach of `x` are looked at: a
+/// segment whose box is farther than that cannot be within `reach` (its computed
+/// distance errs by round-off only), and the others are taken in the same order, so the
+/// result is that of scanning every segment.
+fn side_of(points: &[Vector], index: &geometry::SegmentIndex, x: Vector, reach: f64) -> i8 {
     let mut best = (f64::INFINITY, 0i8);
-    for s in points.windows(2) {
+    let r = Vector::new(2.0 * reach, 2.0 * reach);
+    for i in index.near(x - r, x + r) {
+        let s = [points[i], points[i + 1]];
         let d = s[1] - s[0];
         let l2 = d.norm_squared();
         if l2 == 0.0 {
@@ -383,9 +447,26 @@ fn side_of(points: &[Vector], x: Vector, reach: f64) -> i8 {
 }
 
 /// Normal (above → below) of the crack segment nearest to `x`.
-fn nearest_segment_normal(points: &[Vector], x: Vector) -> Vector {
+///
+/// The segments `index` finds within `reach` of `x` are looked at first (in crack order,
+/// as a scan of all would); if the nearest of them is closer than reach/2, no segment
+/// outside that box (farther than `reach`, whose computed distance errs by round-off only)
+/// can be nearer, and the result is that of the full scan, which runs otherwise.
+fn nearest_segment_normal(points: &[Vector], index: &geometry::SegmentIndex, x: Vector, reach: f64) -> Vector {
+    let r = Vector::new(reach, reach);
+    let near = nearest_of(points, index.near(x - r, x + r), x);
+    if near.0 < 0.25 * reach * reach {
+        return near.1;
+    }
+    nearest_of(points, 0..points.len().saturating_sub(1), x).1
+}
+
+/// (squared distance, normal) of the segment nearest `x` among `segs`, ascending; the
+/// first of equally near ones.
+fn nearest_of(points: &[Vector], segs: impl Iterator<Item = usize>, x: Vector) -> (f64, Vector) {
     let mut best = (f64::INFINITY, Vector::new(0.0, -1.0));
-    for s in points.windows(2) {
+    for i in segs {
+        let s = [points[i], points[i + 1]];
         let d = s[1] - s[0];
         let l2 = d.norm_squared();
         if l2 == 0.0 {
@@ -399,5 +480,76 @@ fn nearest_segment_normal(points: &[Vector], x: Vector) -> Vector {
             }
         }
     }
-    best.1
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `side_of` over every segment, as it was before the segment index.
+    fn side_of_all(points: &[Vector], x: Vector, reach: f64) -> i8 {
+        let mut best = (f64::INFINITY, 0i8);
+        for s in points.windows(2) {
+            let d = s[1] - s[0];
+            let l2 = d.norm_squared();
+            if l2 == 0.0 {
+                continue;
+            }
+            let t = (x - s[0]).dot(&d) / l2;
+            if !(0.0..=1.0).contains(&t) {
+                continue;
+            }
+            let area = geometry::signed_area(s[0], s[1], x);
+            let dist = area.abs() / l2.sqrt();
+            if dist < reach && dist < best.0 {
+                best = (dist, if area > 0.0 { 1 } else if area < 0.0 { -1 } else { 0 });
+            }
+        }
+        best.1
+    }
+
+    /// Random polylines (short and long, on a half-unit lattice every other trial, where
+    /// points on lines and ties are frequent) with their index, and query points and
+    /// reaches; `check` compares an indexed result with the full scan.
+    fn random_queries(seed: u64, trials: usize, mut check: impl FnMut(&[Vector], &geometry::SegmentIndex, Vector, f64)) {
+        let mut state = seed;
+        let mut unit = move || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for trial in 0..trials {
+            let n = 2 + (unit() * if trial % 10 == 0 { 300.0 } else { 12.0 }) as usize;
+            let lattice = trial % 2 == 0;
+            let pt = |u: &mut dyn FnMut() -> f64| {
+                if lattice {
+                    Vector::new((u() * 9.0).floor() * 0.5, (u() * 9.0).floor() * 0.5)
+                } else {
+                    Vector::new(u() * 4.0, u() * 4.0)
+                }
+            };
+            let points: Vec<Vector> = (0..n).map(|_| pt(&mut unit)).collect();
+            let index = geometry::SegmentIndex::of(&points);
+            for _ in 0..20 {
+                let x = pt(&mut unit);
+                let reach = 0.05 + unit();
+                check(&points, &index, x, reach);
+            }
+        }
+    }
+
+    #[test]
+    fn indexed_nearest_normal_equals_the_full_scan() {
+        random_queries(999, 3000, |points, index, x, reach| {
+            let all = nearest_of(points, 0..points.len() - 1, x).1;
+            assert_eq!(nearest_segment_normal(points, index, x, reach), all, "{points:?} {x:?} {reach}");
+        });
+    }
+
+    #[test]
+    fn indexed_side_of_equals_the_full_scan() {
+        random_queries(12345, 5000, |points, index, x, reach| {
+            assert_eq!(side_of(points, index, x, reach), side_of_all(points, x, reach), "{points:?} {x:?} {reach}");
+        });
+    }
 }

@@ -293,13 +293,19 @@ impl LineComparison {
     /// stress, and the FEA field averaged like the MPM (eq. 11); the crack-tip node is
     /// named in the title.
     pub fn plot(&self, path: impl AsRef<Path>) -> anyhow::Result<()> {
+        let (spec, series) = self.plot_data();
+        line_plot(path.as_ref(), &spec, &series).with_context(|| format!("plotting {}", path.as_ref().display()))
+    }
+
+    /// The figure of [`LineComparison::plot`] as data (for the verification report).
+    pub fn plot_data(&self) -> (PlotSpec, Vec<Series>) {
         let curve = |f: fn(&LineRow) -> f64| -> Vec<(f64, f64)> { self.rows.iter().map(|r| (r.s, f(r))).collect() };
         let title = format!(
             "σxx on the crack line: MPM vs FEA (tip node at {}, {})",
             self.tip_position[0], self.tip_position[1]
         );
         let spec = PlotSpec::new(&title, "position along the crack line", "σxx").with_legend(LegendPosition::UpperLeft);
-        let series = [
+        let series = vec![
             Series::line(
                 &format!("MPM, damped to t = {} (eq. 11)", format_sig(self.mpm_time, 4)),
                 curve(|r| r.mpm_sxx),
@@ -308,7 +314,7 @@ impl LineComparison {
             Series::line("static FEA, nodal-averaged", curve(|r| r.fea_sxx)).with_markers(),
             Series::line("static FEA field averaged like the MPM (eq. 11)", curve(|r| r.fea_sxx_eq11)).with_markers(),
         ];
-        line_plot(path.as_ref(), &spec, &series).with_context(|| format!("plotting {}", path.as_ref().display()))
+        (spec, series)
     }
 
     /// A few lines for logs and test output.

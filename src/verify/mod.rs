@@ -103,14 +103,24 @@ pub struct SweepPoint {
     pub error: f64,
 }
 
+/// A data file of the report (a CSV of a figure's numbers, say): its file name within
+/// the report directory, a one-line description and its contents.
+#[derive(Clone, Debug)]
+pub struct DataFile {
+    pub file: String,
+    pub caption: String,
+    pub contents: String,
+}
+
 /// What a case function returns: measurements (never pass/fail), figures, notes
-/// (Markdown lines for the report), sweeps.
+/// (Markdown lines for the report), sweeps, data files.
 #[derive(Clone, Debug, Default)]
 pub struct CaseOutput {
     pub measurements: Vec<Measurement>,
     pub figures: Vec<Figure>,
     pub notes: Vec<String>,
     pub sweep: Vec<SweepPoint>,
+    pub data: Vec<DataFile>,
 }
 
 impl CaseOutput {
@@ -122,6 +132,9 @@ impl CaseOutput {
     }
     pub fn figure(&mut self, file: &str, caption: &str, spec: PlotSpec, plot: Plot) {
         self.figures.push(Figure { file: file.to_string(), caption: caption.to_string(), spec, plot });
+    }
+    pub fn data(&mut self, file: &str, caption: &str, contents: String) {
+        self.data.push(DataFile { file: file.to_string(), caption: caption.to_string(), contents });
     }
 }
 
@@ -163,6 +176,8 @@ pub struct CaseResult {
     pub figures: Vec<Figure>,
     #[serde(skip)]
     pub notes: Vec<String>,
+    #[serde(skip)]
+    pub data: Vec<DataFile>,
 }
 
 /// Evaluate a measurement against its check: (error, pass). NaN never passes.
@@ -226,6 +241,7 @@ pub fn run_case(case: &Case, variant: Variant) -> CaseResult {
         sweep: Vec::new(),
         figures: Vec::new(),
         notes: Vec::new(),
+        data: Vec::new(),
     };
     let manifest = match Manifest::get().and_then(|m| {
         m.case(case.name)
@@ -274,6 +290,7 @@ pub fn run_case(case: &Case, variant: Variant) -> CaseResult {
     result.figures = out.figures;
     result.notes = out.notes;
     result.sweep = out.sweep;
+    result.data = out.data;
     result
 }
 

@@ -222,6 +222,17 @@ pub fn write_report(
                 }
             }
         }
+        for d in &r.data {
+            let path = dir.join(&d.file);
+            match std::fs::write(&path, &d.contents) {
+                Ok(()) => writeln!(md, "Data: [`{}`]({}) — {}\n", d.file, d.file, d.caption)?,
+                Err(e) => {
+                    let msg = format!("{}: data file {} not written: {e}", r.name, d.file);
+                    writeln!(md, "**{}**\n", md_escape(&msg))?;
+                    problems.push(msg);
+                }
+            }
+        }
         if !r.sweep.is_empty() {
             writeln!(md, "<details><summary>Run time and error per configuration</summary>\n")?;
             writeln!(md, "| configuration | wall time (s) | error |\n|---|---|---|")?;

@@ -1,49 +1,33 @@
-//! Scenes shared by several test files (each file under tests/ is its own crate; this
+//! Helpers shared by several test files (each file under tests/ is its own crate; this
 //! module is included with `mod common;`).
 
-/// A 20 × 4 mm block pressed onto a fixed 36 × 4 mm base across a horizontal crack on
-/// y = 0 and pushed sideways: total `force` (x, y) on the block's particles, ramped over
-/// `ramp`; the crack's `contact` law as TOML (e.g. `"none"` or
-/// `{ friction = { mu = 0.3 } }`). E = 0.1 MPa, ν = 0.33, ρ = 1.5 g/cm³, plane stress,
-/// 1 mm cells, uGIMP, USAVG, checked (units mm, g, ms).
+use cramp::verify::{self, Variant};
+
+/// The block-on-a-crack scene of the `crack_friction` case at 1 mm cells
+/// ([`cramp::verify::cases::cracks::block_on_crack`]): a 20 × 4 mm block pressed onto a
+/// fixed 36 × 4 mm base across a horizontal crack on y = 0, total `force` (x, y) on the
+/// block's particles ramped over `ramp`, the crack's `contact` law as TOML.
 #[allow(dead_code)]
 pub fn block_on_crack(force: [f64; 2], ramp: f64, end_time: f64, contact: &str) -> String {
-    let points: Vec<String> = (0..40).map(|i| format!("[{}, 0.0]", -9.5 + i as f64)).collect();
-    format!(
-        r#"
-title = "block sliding on a crack face"
-[grid]
-origin = [-10.0, -6.0]
-size = [40.0, 12.0]
-cell = [1.0, 1.0]
-[solver]
-end_time = {end_time}
-[[materials]]
-name = "m"
-E = 0.1
-nu = 0.33
-rho = 1.5e-3
-state = "plane_stress"
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [0.0, 0.0], max = [20.0, 4.0] }} }}
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [-8.0, -4.0], max = [28.0, 0.0] }} }}
-[[boundary]]
-nodes = {{ region = {{ min = [-10.0, -6.0], max = [30.0, -3.0] }} }}
-vx = 0.0
-vy = 0.0
-[[loads]]
-particles = {{ region = {{ min = [0.0, 0.0], max = [20.0, 4.0] }} }}
-force = [{fx}, {fy}]
-ramp = {ramp}
-[[cracks]]
-points = [{p}]
-contact = {contact}
-"#,
-        fx = force[0],
-        fy = force[1],
-        p = points.join(", ")
-    )
+    cramp::verify::cases::cracks::block_on_crack(1.0, force, ramp, end_time, contact)
+}
+
+/// Run a verification case of `verification/cases.toml` through the library (as `cramp
+/// verify` does), print its table and notes, write its report section (figures and data
+/// files) to target/tmp/<case>/, and assert that it passed. The tolerances are the
+/// manifest's.
+#[allow(dead_code)]
+pub fn verify_case(name: &str, variant: Variant) -> verify::CaseResult {
+    let case = verify::select(&[name.to_string()], variant).expect("a registered case").remove(0);
+    let result = verify::run_case(&case, variant);
+    println!("{}", verify::report::text_table(std::slice::from_ref(&result)));
+    for n in &result.notes {
+        println!("{n}");
+    }
+    let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let problems = verify::report::write_report(&out, std::slice::from_ref(&result), variant, result.wall_s).unwrap();
+    println!("report with figures and data in {}", out.display());
+    assert!(problems.is_empty(), "{problems:?}");
+    assert!(result.passed, "verification case {name} failed: {:?}", result.errors);
+    result
 }

@@ -4,10 +4,12 @@
 
 pub mod colliding_disks;
 pub mod crack_patch;
+pub mod cracks;
 pub mod fea;
 pub mod fracture;
 pub mod growth;
 pub mod impact;
+pub mod plates;
 pub mod stability;
 pub mod vibrating_bar;
 
@@ -22,6 +24,8 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "impact_energy", run: impact::run },
     Case { name: "colliding_disks", run: colliding_disks::run },
     Case { name: "crack_patch", run: crack_patch::run },
+    Case { name: "cracked_disks", run: cracks::run_disks },
+    Case { name: "crack_friction", run: cracks::run_friction },
     Case { name: "fea_patch", run: fea::run_patch },
     Case { name: "fea_cantilever", run: fea::run_cantilever },
     Case { name: "fea_dcb", run: fea::run_dcb },
@@ -32,6 +36,8 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "pmma_tpb_offcentre", run: growth::run_offcentre },
     Case { name: "mode_ii_kink", run: growth::run_mode_ii },
     Case { name: "dcb_growth", run: growth::run_dcb_growth },
+    Case { name: "plates_k", run: plates::run },
+    Case { name: "mpm_vs_fea", run: fea::run_mpm_vs_fea },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },
 ];
