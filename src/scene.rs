@@ -9,13 +9,13 @@
 
 use crate::crack::{ContactLaw, Crack, CrackMethod};
 use crate::fracture::growth::{Criterion, Growth, GrowthSettings, Toughness};
-use crate::fracture::jintegral::{JRequest, TipEnd};
+use crate::fracture::jintegral::{CodMethod, JRequest, TipEnd};
 use crate::dim::Vector;
 use crate::grid::Grid;
 use crate::material::{LinearElastic, PlaneState};
 use crate::particles::{Particles, NO_LOAD};
 use crate::shape::ShapeKind;
-use crate::simulation::{Load, NodeBcs, Options, Scheme, Simulation};
+use crate::simulation::{DampingOn, Load, NodeBcs, Options, Scheme, Simulation};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use thiserror::Error;
@@ -86,6 +86,10 @@ pub struct SolverSpec {
     /// Damping coefficient κ of eq. 28, 1/time (default 0).
     #[serde(default)]
     pub damping: f64,
+    /// What κ damps: "grid" (the nodal momenta, eq. 28; default) or "particles" (the
+    /// same nodal force, and the particle velocities themselves in Task 5).
+    #[serde(default)]
+    pub damping_on: DampingOn,
     /// Particles per cell per direction (default 2).
     #[serde(default = "default_ppc")]
     pub particles_per_cell: usize,
@@ -264,6 +268,10 @@ pub struct FractureSpec {
     /// Add the area term of eq. 8 (two-term, path-independent J; default false).
     #[serde(default)]
     pub area_term: bool,
+    /// How δ_I, δ_II for the K split are read from the crack surfaces: "fit" (default)
+    /// or "next_to_tip" (Guo & Nairn 2004 §3).
+    #[serde(default)]
+    pub cod: CodMethod,
     /// Let the tips grow (001 §2.3.2) by the toughness of the material they are in.
     /// Omitted: the crack is stationary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -715,6 +723,7 @@ impl Scene {
             shape: self.solver.shape,
             dt: self.time_step(),
             damping: self.solver.damping,
+            damping_on: self.solver.damping_on,
             checked: self.solver.checked,
             crack_method: self.solver.crack_method,
         };
@@ -758,6 +767,7 @@ impl Scene {
                     },
                     contour: f.contour,
                     area_term: f.area_term,
+                    cod: f.cod,
                 })
             })
             .collect()

@@ -25,6 +25,24 @@ pub enum Scheme {
     Usavg,
 }
 
+/// What the damping term ∫ ρ κ u̇·δu dV of Guo & Nairn 2004 eq. 1 acts on.
+///
+/// Both choices put the same force −κp on every node (eq. 28), so the grid momenta and
+/// the static state are the same. They differ in the particle velocity update of Task 5:
+/// with `Grid` a particle is damped by −κ Σ S v_i, the grid's view of its velocity, and
+/// the part of the particle velocities the grid cannot see (FLIP's null space) is never
+/// damped; with `Particles` it is damped by −κ v_p, so everything decays as e^{−κt}.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DampingOn {
+    /// −κp on the nodes only (Nairn 2003 eq. 28; NairnMPM's grid damping).
+    #[default]
+    Grid,
+    /// The same nodal force, and each particle's velocity damped by −κ v_p rather than
+    /// −κ Σ S v_i (NairnMPM's particle damping at the same κ).
+    Particles,
+}
+
 /// Solver options of a scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
@@ -34,6 +52,9 @@ pub struct Options {
     pub dt: f64,
     /// Damping coefficient κ of eq. 28 (1/time).
     pub damping: f64,
+    /// What the damping κ acts on: the grid momenta only (the papers' eq. 28) or the
+    /// particle velocities as well.
+    pub damping_on: DampingOn,
     /// Run the invariant checks every step.
     pub checked: bool,
     /// How cracks act on the particle–node pairs (CRAMP velocity fields by default).

@@ -28,7 +28,7 @@ use crate::grid::{Grid, MAX_FIELDS};
 use crate::material::Constitutive;
 use crate::particles::NO_LOAD;
 use crate::shape::{self, ShapeKind, MAX_NODES};
-use crate::simulation::{Scheme, Simulation};
+use crate::simulation::{DampingOn, Scheme, Simulation};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -497,10 +497,23 @@ impl Simulation {
         } else {
             self.work.external_work += 0.0;
         }
-        (p.x.par_iter_mut(), p.v.par_iter_mut(), incs.par_iter()).into_par_iter().with_min_len(PARTICLE_CHUNK).for_each(|(x, v, (vel, acc))| {
-            *x += vel * dt;
-            *v += acc * dt;
-        });
+        let kappa = self.options.damping;
+        if kappa != 0.0 && self.options.damping_on == DampingOn::Particles {
+            // Particle damping: the grid force −κp already gave each particle −κ Σ S v_i;
+            // the rest of −κ v_p is −κ (v_p − Σ S v_i), the part the grid cannot see. Its
+            // work, κ Δt Σ m_p v_p·(v_p − Σ S v_i), joins the damping energy.
+            let (mass, v) = (&p.mass, &p.v);
+            self.work.damping += crate::exact::sum_fast((0..p.len()).map(|i| kappa * dt * mass[i] * v[i].dot(&(v[i] - incs[i].0))));
+            (p.x.par_iter_mut(), p.v.par_iter_mut(), incs.par_iter()).into_par_iter().with_min_len(PARTICLE_CHUNK).for_each(|(x, v, (vel, acc))| {
+                *x += vel * dt;
+                *v += acc * dt - (*v - vel) * (kappa * dt);
+            });
+        } else {
+            (p.x.par_iter_mut(), p.v.par_iter_mut(), incs.par_iter()).into_par_iter().with_min_len(PARTICLE_CHUNK).for_each(|(x, v, (vel, acc))| {
+                *x += vel * dt;
+                *v += acc * dt;
+            });
+        }
         self.scratch.increments = incs;
     }
 

@@ -59,6 +59,7 @@ golden_case!(
     cfl_sweep,
     chen_early_time,
     dcb_k,
+    split_beams_k,
     pmma_tpb,
     pmma_tpb_offcentre,
     mode_ii_kink,

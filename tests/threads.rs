@@ -28,10 +28,14 @@ fn scene() -> Scene {
 }
 
 fn run_in_pool(threads: usize) -> Simulation {
+    run_scene_in_pool(threads, scene())
+}
+
+fn run_scene_in_pool(threads: usize, scene: Scene) -> Simulation {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
         assert_eq!(rayon::current_num_threads(), threads);
-        let mut sim = scene().build().unwrap();
+        let mut sim = scene.build().unwrap();
         assert!(sim.options.checked && sim.has_cracks());
         for _ in 0..STEPS {
             sim.step().unwrap_or_else(|e| panic!("{threads} threads: {e}"));
@@ -88,4 +92,22 @@ fn avx2_and_baseline_code_give_identical_bits() {
     let first_diff = baseline.iter().zip(&wide).position(|(a, b)| a != b);
     assert_eq!(first_diff, None, "AVX2 code differs from baseline at value {first_diff:?}");
     assert_eq!(baseline.len(), wide.len());
+}
+
+/// The same with the damping acting on the particle velocities (`damping_on =
+/// "particles"`), whose extra dissipation is one more sum over all particles.
+#[test]
+fn particle_damping_gives_identical_bits_on_one_and_two_threads() {
+    let with_particle_damping = || {
+        let mut sc = scene();
+        assert!(sc.solver.damping > 0.0);
+        sc.solver.damping_on = cramp::simulation::DampingOn::Particles;
+        sc
+    };
+    let one = bits(&run_scene_in_pool(1, with_particle_damping()));
+    let two = bits(&run_scene_in_pool(2, with_particle_damping()));
+    let first_diff = one.iter().zip(&two).position(|(a, b)| a != b);
+    assert_eq!(first_diff, None, "2 threads differ from 1 at value {first_diff:?}");
+    // And it is not the grid-damped run.
+    assert_ne!(one, bits(&run_in_pool(1)));
 }

@@ -330,7 +330,7 @@ impl Simulation {
                 // A contour that no longer fits (near the grid's edge) or that the crack
                 // crosses more than once (a curved crack near its tip) gives no J: the tip
                 // does not grow at this evaluation, and the row says why.
-                let fr = match self.tip_fracture(c, end, cg.request.contour, cg.request.area_term, speed) {
+                let fr = match self.tip_fracture(c, end, cg.request.contour, cg.request.area_term, cg.request.cod, speed) {
                     Ok(fr) => fr,
                     Err(e @ (FractureError::ContourOutsideGrid { .. } | FractureError::Crossings { .. })) => {
                         let tip = self.tip_of(c, end);

@@ -32,6 +32,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "cfl_sweep", run: stability::run_cfl_sweep },
     Case { name: "chen_early_time", run: fracture::run },
     Case { name: "dcb_k", run: fracture::run_dcb },
+    Case { name: "split_beams_k", run: fracture::run_split_beams },
     Case { name: "pmma_tpb", run: growth::run_tpb },
     Case { name: "pmma_tpb_offcentre", run: growth::run_offcentre },
     Case { name: "mode_ii_kink", run: growth::run_mode_ii },

@@ -20,7 +20,7 @@
 //! cell), so K converges at first order in h: the case checks the observed order and the
 //! Richardson extrapolation 2K(h/2) − K(h) against Tada.
 
-use crate::fracture::jintegral::TipEnd;
+use crate::fracture::jintegral::{CodMethod, TipEnd};
 use crate::report::plot::PlotSpec;
 use crate::scene::Scene;
 use crate::verify::{CaseOutput, Plot, Variant};
@@ -179,7 +179,7 @@ pub fn plate_k(kind: PlateKind, h: f64) -> anyhow::Result<PlateRun> {
     let mut k_samples = [0.0; 3];
     for (k, f) in [0.8, 0.9, 1.0].into_iter().enumerate() {
         sim.run_until(f * end, |_| {})?;
-        k_samples[k] = sim.tip_fracture(0, TipEnd::End, 2, false, 0.0)?.k1;
+        k_samples[k] = sim.tip_fracture(0, TipEnd::End, 2, false, CodMethod::NextToTip, 0.0)?.k1;
     }
     Ok(PlateRun {
         kind,
