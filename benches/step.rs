@@ -18,6 +18,7 @@
 //! 0.087 G/s. The 2-thread group needs an idle second core to mean anything.
 
 use cramp::exact::{Accumulator, ExactSum, FastSum};
+use cramp::fracture::jintegral::{CodMethod, TipEnd};
 use cramp::scene::Scene;
 use cramp::shape::MAX_NODES;
 use cramp::simulation::Simulation;
@@ -84,6 +85,14 @@ fn bench_step(c: &mut Criterion) {
     g.bench_function("crack_field_assignment", |b| b.iter(|| s.bench_crack_fields().unwrap()));
     let mut s = cracked.clone();
     g.bench_function("contact_pass", |b| b.iter(|| s.bench_contact()));
+    g.finish();
+
+    // J and K at the tip (outside the time step: at the history interval, when asked):
+    // the 2×2 line contour, the two-term J, and the COD fit.
+    let mut g = quick(c, "j_integral");
+    for (name, n, area, cod) in [("line_2x2", 2, false, CodMethod::NextToTip), ("two_term_2x2", 2, true, CodMethod::NextToTip), ("line_2x2_cod_fit", 2, false, CodMethod::Fit)] {
+        g.bench_function(name, |b| b.iter(|| black_box(cracked.tip_fracture(0, TipEnd::End, n, area, cod, 0.0).unwrap())));
+    }
     g.finish();
 
     // Exact vs naive summation on the terms of Task 1 (m v_x S per pair, by node).

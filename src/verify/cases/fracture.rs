@@ -313,7 +313,7 @@ pub fn dcb_k(h: f64) -> anyhow::Result<(f64, f64, f64, f64)> {
 pub fn run_dcb(variant: Variant) -> anyhow::Result<CaseOutput> {
     let sizes: &[f64] = match variant {
         Variant::Quick => &[2.0],
-        Variant::Full => &[4.0, 2.0, 1.0],
+        Variant::Full => &[4.0, 2.0, 1.0, 0.5],
     };
     let mut out = CaseOutput::default();
     let mut pareto = Vec::new();
