@@ -58,6 +58,7 @@ golden_case!(
     fea_dcb,
     cfl_sweep,
     chen_early_time,
+    chen_late_time,
     dcb_k,
     split_beams_k,
     pmma_tpb,

@@ -19,12 +19,12 @@ use crate::scene::Scene;
 use crate::verify::{CaseOutput, Plot, Variant};
 
 
-/// Chen's plate material and load (units mm, g, µs; TPa).
-const E: f64 = 0.1994;
-const NU: f64 = 0.3;
-const RHO: f64 = 5.0e-3;
-const SIGMA: f64 = 4.0e-4;
-const A: f64 = 2.4;
+/// Chen's plate material and load (units mm, g, µs; TPa): E, ν, ρ, σ₀ and the half crack length a.
+pub const E: f64 = 0.1994;
+pub const NU: f64 = 0.3;
+pub const RHO: f64 = 5.0e-3;
+pub const SIGMA: f64 = 4.0e-4;
+pub const A: f64 = 2.4;
 
 /// The half plate at cell size `h`, run to `end_time` µs, J requested at the tip.
 pub fn chen_scene(h: f64, end_time: f64) -> anyhow::Result<Scene> {
@@ -92,6 +92,9 @@ pub struct ChenSample {
     pub t: f64,
     /// K_I/(σ₀√(πa)) from the two-term J on the 2×2 and 8×8 contours, and the line term alone on 8×8.
     pub k2: f64,
+    /// The 2×2 K_I with the sign of the crack opening (the COD partition's K_I): negative
+    /// where the faces overlap, which a scene without crack contact allows.
+    pub k2_signed: f64,
     pub k8: f64,
     pub k8_line: f64,
     /// σ_yy/σ₀ at the ligament node (8, 0), 5.6 mm ahead of the tip.
@@ -100,7 +103,13 @@ pub struct ChenSample {
 
 /// The run's samples every 0.05 µs, c_d and t₀.
 pub fn run_chen(h: f64, end: f64) -> anyhow::Result<(Vec<ChenSample>, f64, f64)> {
-    let mut sim = chen_scene(h, end)?.build()?;
+    run_chen_scene(&chen_scene(h, end)?, end)
+}
+
+/// [`run_chen`] for a variant of [`chen_scene`] (another crack contact law, say).
+pub fn run_chen_scene(scene: &Scene, end: f64) -> anyhow::Result<(Vec<ChenSample>, f64, f64)> {
+    let h = scene.grid.cell[0];
+    let mut sim = scene.build()?;
     let cd = sim.materials[0].wave_speed();
     let t0 = 20.0 / cd;
     let k0 = SIGMA * (std::f64::consts::PI * A).sqrt();
@@ -116,7 +125,7 @@ pub fn run_chen(h: f64, end: f64) -> anyhow::Result<(Vec<ChenSample>, f64, f64)>
         let j2 = sim.tip_fracture(0, TipEnd::End, 2, true, CodMethod::NextToTip, 0.0)?;
         let j8 = sim.tip_fracture(0, TipEnd::End, 8, true, CodMethod::NextToTip, 0.0)?;
         let syy = sim.nodal_state(node)[0].map(|s| s.stress.yy).unwrap_or(f64::NAN);
-        out.push(ChenSample { t: sim.time, k2: k_of(j2.j1), k8: k_of(j8.j1), k8_line: k_of(j8.j1_line), syy_ligament: syy / SIGMA });
+        out.push(ChenSample { t: sim.time, k2: k_of(j2.j1), k2_signed: j2.k1 / k0, k8: k_of(j8.j1), k8_line: k_of(j8.j1_line), syy_ligament: syy / SIGMA });
     }
     Ok((out, cd, t0))
 }

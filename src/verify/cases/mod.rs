@@ -2,6 +2,7 @@
 //! tests in `tests/` call the same functions, so nothing is computed twice); the
 //! registry maps the manifest's case names to them.
 
+pub mod chen;
 pub mod colliding_disks;
 pub mod crack_patch;
 pub mod cracks;
@@ -31,6 +32,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "fea_dcb", run: fea::run_dcb },
     Case { name: "cfl_sweep", run: stability::run_cfl_sweep },
     Case { name: "chen_early_time", run: fracture::run },
+    Case { name: "chen_late_time", run: chen::run },
     Case { name: "dcb_k", run: fracture::run_dcb },
     Case { name: "split_beams_k", run: fracture::run_split_beams },
     Case { name: "pmma_tpb", run: growth::run_tpb },
