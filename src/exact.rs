@@ -36,13 +36,19 @@
 //!
 //!   An addition costs a few integer instructions and no data-dependent loop; the
 //!   accumulator needs no memory beyond itself.
-//! * **Fallback: Shewchuk's (1997) expansion** of non-overlapping partials with the
-//!   final round-half-even correction of Python's `math.fsum` (Hettinger's recipe),
-//!   correctly rounded for finite inputs without overflow. Used when a term falls
-//!   outside the window (terms over more than 64 binades, as ahead of a wave front,
-//!   subnormal-range terms, huge terms, more than 1024 terms). On switching, the fixed-
-//!   point value is handed over exactly as at most three doubles of ≤ 43 bits each, so
-//!   the expansion sums exactly the same real number.
+//! * **Fallback: a full-range fixed-point accumulator** (`Wide`): the exact sum as an
+//!   integer in units of 2^−1074 (the ulp of every double), 68 signed 64-bit limbs
+//!   holding 32-bit digits (carry-save), rounded once to nearest, ties to even, when read
+//!   — overflowing to ±∞ like IEEE addition. Used when a term falls outside the window
+//!   (terms over more than 64 binades, as ahead of a wave front, subnormal-range terms,
+//!   huge terms, more than 1024 terms). On switching, the window's value is handed over
+//!   exactly. Its size is fixed (no heap: the time step does not allocate, see
+//!   `tests/no_alloc.rs`); an `ExactSum` that never leaves the window does not even
+//!   initialise it. (Until issue 6 the fallback was Shewchuk's (1997) expansion with
+//!   `math.fsum`'s final correction, whose partials live in a `Vec` — one allocation per
+//!   fallback sum, and more than 64 partials for terms decaying over hundreds of
+//!   binades. Both are correctly rounded, so the bits are the same; the tests compare
+//!   them.)
 //!
 //! Signed zeros are reproduced too: an exact zero is −0 if every term was −0 (and
 //! there was at least one), +0 otherwise, as IEEE addition in any order gives. A
@@ -76,8 +82,9 @@ const fn pow2(k: i32) -> f64 {
 
 /// An exact accumulator: add terms in any order, read the correctly rounded sum.
 ///
-/// Reuse one accumulator for many sums with [`ExactSum::clear`]; it allocates only if a
-/// sum ever needs the fallback expansion, and keeps that allocation.
+/// Reuse one accumulator for many sums with [`ExactSum::clear`]. It never allocates: the
+/// full-range fallback (see the module documentation) is stored inline, and initialised
+/// only when a sum needs it.
 #[derive(Clone, Debug)]
 pub struct ExactSum {
     /// Fixed-point sum of the non-zero finite terms: exact value acc·2^(base−1075).
@@ -92,10 +99,10 @@ pub struct ExactSum {
     finite_terms: u32,
     /// Every finite term so far was −0.
     all_neg_zero: bool,
-    /// The fixed-point window was left: the expansion below holds the sum.
+    /// The fixed-point window was left: `wide` holds the sum (`slow` ⇔ `wide.is_some()`).
     slow: bool,
-    /// Shewchuk's non-overlapping partials (fallback only).
-    partials: Vec<f64>,
+    /// The full-range accumulator (fallback only; `None` costs no initialisation).
+    wide: Option<Wide>,
     /// IEEE sum of the non-finite terms (0 when there are none): a NaN or infinity
     /// poisons the result visibly, and the checked mode reports it.
     special: f64,
@@ -111,10 +118,10 @@ impl ExactSum {
     /// An empty accumulator (no allocation).
     #[inline]
     pub const fn new() -> Self {
-        ExactSum { acc: 0, base: 0, top: 0, n: 0, finite_terms: 0, all_neg_zero: true, slow: false, partials: Vec::new(), special: 0.0 }
+        ExactSum { acc: 0, base: 0, top: 0, n: 0, finite_terms: 0, all_neg_zero: true, slow: false, wide: None, special: 0.0 }
     }
 
-    /// Forget all terms (cheap: any allocation is kept), so one accumulator serves many sums.
+    /// Forget all terms (cheap), so one accumulator serves many sums.
     #[inline]
     pub fn clear(&mut self) {
         self.acc = 0;
@@ -124,7 +131,7 @@ impl ExactSum {
         self.special = 0.0;
         if self.slow {
             self.slow = false;
-            self.partials.clear();
+            self.wide = None;
         }
     }
 
@@ -142,16 +149,15 @@ impl ExactSum {
         if bits & !SIGN_BIT == 0 {
             return; // ±0 adds nothing (its sign is tracked above)
         }
-        if self.slow {
-            shewchuk_add(&mut self.partials, x);
+        if let Some(w) = self.wide.as_mut() {
+            w.add_double(x);
             return;
         }
         // x = ±m·2^(e−1075) exactly, m < 2^53.
         let (m, e) = if e == 0 { (bits & FRAC_MASK, 1) } else { ((bits & FRAC_MASK) | IMPLICIT_BIT, e) };
         let (base, top) = if self.n == 0 { (e, e) } else { (self.base.min(e), self.top.max(e)) };
         if top - base > SPAN || self.n >= MAX_TERMS || base < MIN_EXP || top > MAX_EXP {
-            self.spill();
-            shewchuk_add(&mut self.partials, x);
+            self.spill().add_double(x);
             return;
         }
         if base < self.base && self.n > 0 {
@@ -166,27 +172,27 @@ impl ExactSum {
         self.n += 1;
     }
 
-    /// Leave the fixed-point window: hand its exact value to the expansion. |acc| < 2^127
-    /// splits into three chunks of at most 43 bits, each exact in a double, and each
-    /// scaled exactly by a power of two ≥ 2^−1022 (base ≥ 53) into a normal number.
+    /// Leave the fixed-point window: hand its exact value acc·2^(base−1075) to the wide
+    /// accumulator, as three chunks of at most 43 bits of |acc| (< 2^127) at their
+    /// positions (bit 0 of acc is bit base − 1 of the wide integer).
     #[cold]
-    fn spill(&mut self) {
+    fn spill(&mut self) -> &mut Wide {
         self.slow = true;
-        self.partials.clear();
-        if self.acc == 0 {
-            return;
-        }
-        let neg = self.acc < 0;
-        let a = self.acc.unsigned_abs();
-        const CHUNK: u32 = 43;
-        for k in 0..3 {
-            let c = ((a >> (CHUNK * k)) & ((1u128 << CHUNK) - 1)) as u64;
-            if c != 0 {
-                let v = c as f64 * pow2(self.base - 1075 + (CHUNK * k) as i32);
-                shewchuk_add(&mut self.partials, if neg { -v } else { v });
+        let (acc, base) = (self.acc, self.base);
+        self.acc = 0;
+        let w = self.wide.insert(Wide::new());
+        if acc != 0 {
+            let neg = acc < 0;
+            let a = acc.unsigned_abs();
+            const CHUNK: u32 = 43;
+            for k in 0..3 {
+                let c = ((a >> (CHUNK * k)) & ((1u128 << CHUNK) - 1)) as u64;
+                if c != 0 {
+                    w.add(neg, c, (base - 1) as u32 + CHUNK * k);
+                }
             }
         }
-        self.acc = 0;
+        w
     }
 
     /// The correctly rounded sum of all terms added so far.
@@ -195,69 +201,143 @@ impl ExactSum {
         if self.special != 0.0 || self.special.is_nan() {
             return self.special;
         }
-        if self.slow {
-            return shewchuk_value(&self.partials);
-        }
-        if self.acc == 0 {
+        let v = match &self.wide {
+            Some(w) => w.value(),
+            None if self.acc == 0 => 0.0,
+            // Exact: see the module documentation.
+            None => return (self.acc as f64) * pow2(self.base - 1075),
+        };
+        if v == 0.0 {
             return if self.finite_terms > 0 && self.all_neg_zero { -0.0 } else { 0.0 };
         }
-        // Exact: see the module documentation.
-        (self.acc as f64) * pow2(self.base - 1075)
+        v
     }
 }
 
-/// Shewchuk's `grow_expansion` with zero elimination (Python's `msum`): add `x` to the
-/// non-overlapping partials, keeping their sum exact.
-fn shewchuk_add(partials: &mut Vec<f64>, mut x: f64) {
-    let mut i = 0;
-    for j in 0..partials.len() {
-        let mut y = partials[j];
-        if x.abs() < y.abs() {
-            std::mem::swap(&mut x, &mut y);
-        }
-        let hi = x + y;
-        let lo = y - (hi - x);
-        if lo != 0.0 {
-            partials[i] = lo;
-            i += 1;
-        }
-        x = hi;
-    }
-    partials.truncate(i);
-    partials.push(x);
+/// Limbs of `Wide`: digit k has weight 2^(32k) units of 2^−1074. A double's bits lie
+/// at positions 0..2098, the chunks a spilled window hands over below 2000 − 1 + 3·43
+/// < 32·67 (and their value below 2^2010), so limbs 0..67 hold every term.
+const WIDE_LIMBS: usize = 68;
+/// Terms between two carry normalisations of `Wide`: each changes a limb by less than
+/// 2^32, so no limb exceeds 2^32 + 2^62 < 2^63.
+const WIDE_BATCH: u32 = 1 << 30;
+
+/// The exact sum of any finite doubles as an integer Σ limb[k]·2^(32k) in units of
+/// 2^−1074, carry-save (limbs are signed and may leave [0, 2^32) between
+/// normalisations), fixed size: the fallback of [`ExactSum`]. Only the limbs `lo..=hi`
+/// that terms touched are non-zero; reading the sum visits only those (and one more).
+#[derive(Clone, Debug)]
+struct Wide {
+    limb: [i64; WIDE_LIMBS],
+    lo: usize,
+    hi: usize,
+    adds: u32,
 }
 
-/// The correctly rounded sum of non-overlapping partials (increasing magnitude), with
-/// `math.fsum`'s round-half-even correction.
-fn shewchuk_value(p: &[f64]) -> f64 {
-    let mut n = p.len();
-    if n == 0 {
-        return 0.0;
+impl Wide {
+    fn new() -> Self {
+        Wide { limb: [0; WIDE_LIMBS], lo: WIDE_LIMBS, hi: 0, adds: 0 }
     }
-    n -= 1;
-    let mut hi = p[n];
-    let mut lo = 0.0;
-    while n > 0 {
-        let x = hi;
-        n -= 1;
-        let y = p[n];
-        hi = x + y;
-        let yr = hi - x;
-        lo = y - yr;
-        if lo != 0.0 {
-            break;
+
+    /// Add the finite, non-zero double x = ±M·2^(E−1075) = ±M·2^(max(E,1)−1) units.
+    #[inline]
+    fn add_double(&mut self, x: f64) {
+        let bits = x.to_bits();
+        let e = ((bits >> 52) & 0x7ff) as u32;
+        let (m, s) = if e == 0 { (bits & FRAC_MASK, 0) } else { ((bits & FRAC_MASK) | IMPLICIT_BIT, e - 1) };
+        self.add(bits & SIGN_BIT != 0, m, s);
+    }
+
+    /// Add ±m·2^s units, m < 2^53, s < 32·66: the three 32-bit digits of m·2^(s mod 32)
+    /// (< 2^85) to limbs s/32 .. s/32 + 2.
+    #[inline]
+    fn add(&mut self, neg: bool, m: u64, s: u32) {
+        const DIGIT: u128 = 0xffff_ffff;
+        let (q, r) = ((s / 32) as usize, s % 32);
+        let v = (m as u128) << r;
+        let d = [(v & DIGIT) as i64, ((v >> 32) & DIGIT) as i64, (v >> 64) as i64];
+        for (l, d) in self.limb[q..q + 3].iter_mut().zip(d) {
+            if neg {
+                *l -= d;
+            } else {
+                *l += d;
+            }
+        }
+        self.lo = self.lo.min(q);
+        self.hi = self.hi.max(q + 2);
+        self.adds += 1;
+        if self.adds == WIDE_BATCH {
+            carry(&mut self.limb, 0, WIDE_LIMBS - 1);
+            (self.lo, self.hi, self.adds) = (0, WIDE_LIMBS - 1, 0);
         }
     }
-    // Round half to even across the remaining partials.
-    if n > 0 && ((lo < 0.0 && p[n - 1] < 0.0) || (lo > 0.0 && p[n - 1] > 0.0)) {
-        let y = lo * 2.0;
-        let x = hi + y;
-        let yr = x - hi;
-        if y == yr {
-            hi = x;
+
+    /// The exact sum rounded to nearest, ties to even (+0 for an exact zero; ±∞ beyond
+    /// the largest double, as IEEE rounding gives).
+    fn value(&self) -> f64 {
+        if self.lo > self.hi {
+            return 0.0;
+        }
+        // Carry the touched limbs into the next one, `top`, which keeps the sign: the
+        // limbs below it are digits in [0, 2^32), worth less than one unit of `top`.
+        let (lo, top) = (self.lo, (self.hi + 1).min(WIDE_LIMBS - 1));
+        let mut l = self.limb;
+        carry(&mut l, lo, top);
+        let neg = l[top] < 0;
+        if neg {
+            l[lo..=top].iter_mut().for_each(|x| *x = -*x);
+            carry(&mut l, lo, top);
+        }
+        let Some(t) = l[..=top].iter().rposition(|&x| x != 0) else { return 0.0 };
+        // The top three limbs (zeros below limb 0): w < 2^127 (limb t < 2^63, the ones
+        // below are digits), and the integer has b = 32(t − 2) + bit length of w bits.
+        let get = |k: Option<usize>| k.map_or(0, |k| l[k] as u128);
+        let w = (get(Some(t)) << 64) | (get(t.checked_sub(1)) << 32) | get(t.checked_sub(2));
+        let bw = 128 - w.leading_zeros() as i64;
+        let b = 32 * (t as i64 - 2) + bw;
+        let magnitude = if b <= 53 {
+            // An integer below 2^53 (t ≤ 1): exact, times 2^−1074 exactly.
+            let v = ((l[1] as u64) << 32) | l[0] as u64;
+            v as f64 * f64::from_bits(1)
+        } else {
+            // 53 bits, the rounding bit, and whether anything below it is non-zero
+            // (bw ≥ 65 here, so the shift is at least 11).
+            let sh = (bw - 54) as u32;
+            let top = (w >> sh) as u64;
+            let sticky = w & ((1u128 << sh) - 1) != 0 || l[..t.saturating_sub(2)].iter().any(|&x| x != 0);
+            let mut mant = top >> 1;
+            if top & 1 == 1 && (sticky || mant & 1 == 1) {
+                mant += 1;
+            }
+            // mant·2^(b−53) units with mant in [2^52, 2^53]: biased exponent b − 52.
+            let mut biased = b - 52;
+            if mant == 1 << 53 {
+                mant >>= 1;
+                biased += 1;
+            }
+            if biased >= 0x7ff {
+                f64::INFINITY
+            } else {
+                f64::from_bits(((biased as u64) << 52) | (mant & FRAC_MASK))
+            }
+        };
+        if neg {
+            -magnitude
+        } else {
+            magnitude
         }
     }
-    hi
+}
+
+/// Propagate the carries of limbs `lo..top` into `top`: each of them into [0, 2^32),
+/// `top` keeps the sign (same value).
+#[inline]
+fn carry(l: &mut [i64; WIDE_LIMBS], lo: usize, top: usize) {
+    for k in lo..top {
+        let c = l[k] >> 32;
+        l[k] -= c << 32;
+        l[k + 1] += c;
+    }
 }
 
 /// Something that sums N quantities term by term (the N components a gather produces
@@ -495,6 +575,61 @@ mod tests {
         let r = next(seed);
         let e = exps.start + (next(seed) % (exps.end - exps.start));
         f64::from_bits((r & SIGN_BIT) | (e << 52) | (next(seed) & FRAC_MASK))
+    }
+
+    /// The fallback cramp used before the wide accumulator (issue 6), kept to compare
+    /// with: Shewchuk's `grow_expansion` with zero elimination (Python's `msum`): add `x`
+    /// to the non-overlapping partials, keeping their sum exact.
+    fn shewchuk_add(partials: &mut Vec<f64>, mut x: f64) {
+        let mut i = 0;
+        for j in 0..partials.len() {
+            let mut y = partials[j];
+            if x.abs() < y.abs() {
+                std::mem::swap(&mut x, &mut y);
+            }
+            let hi = x + y;
+            let lo = y - (hi - x);
+            if lo != 0.0 {
+                partials[i] = lo;
+                i += 1;
+            }
+            x = hi;
+        }
+        partials.truncate(i);
+        partials.push(x);
+    }
+
+    /// The correctly rounded sum of non-overlapping partials (increasing magnitude), with
+    /// `math.fsum`'s round-half-even correction.
+    fn shewchuk_value(p: &[f64]) -> f64 {
+        let mut n = p.len();
+        if n == 0 {
+            return 0.0;
+        }
+        n -= 1;
+        let mut hi = p[n];
+        let mut lo = 0.0;
+        while n > 0 {
+            let x = hi;
+            n -= 1;
+            let y = p[n];
+            hi = x + y;
+            let yr = hi - x;
+            lo = y - yr;
+            if lo != 0.0 {
+                break;
+            }
+        }
+        // Round half to even across the remaining partials.
+        if n > 0 && ((lo < 0.0 && p[n - 1] < 0.0) || (lo > 0.0 && p[n - 1] > 0.0)) {
+            let y = lo * 2.0;
+            let x = hi + y;
+            let yr = x - hi;
+            if y == yr {
+                hi = x;
+            }
+        }
+        hi
     }
 
     /// The summation cramp used before the fixed-point fast path (every finite term,
@@ -765,8 +900,9 @@ mod tests {
     }
 
     #[test]
-    fn terms_over_many_binades_need_many_partials() {
-        // Found by the impact test: geometrically decaying terms need > 64 partials.
+    fn geometrically_decaying_terms_over_many_binades() {
+        // Found by the impact test: geometrically decaying terms needed > 64 partials of
+        // the old Shewchuk fallback (the wide accumulator has a fixed size).
         let mut s = ExactSum::new();
         let mut terms = Vec::new();
         for k in (0..200).rev() {
@@ -777,6 +913,60 @@ mod tests {
         assert_eq!(s.value().to_bits(), sum(&terms).to_bits());
         assert_eq!(s.value(), 1.5); // Σ 3^-k = 1.5 to within far less than an ulp
         check(&terms);
+    }
+
+    #[test]
+    fn the_fallback_rounds_at_the_ends_of_the_range_like_ieee_addition() {
+        let max = f64::MAX;
+        let half_ulp = 2f64.powi(970); // half an ulp of f64::MAX
+        // Exact sums beyond the largest double round to ±∞, as IEEE addition does.
+        assert_eq!(sum(&[max, max]), f64::INFINITY);
+        assert_eq!(sum(&[-max, -max, 1.0]), f64::NEG_INFINITY);
+        assert_eq!(sum(&[max, half_ulp]), f64::INFINITY); // a tie; MAX's significand is odd
+        assert_eq!(sum(&[max, half_ulp, -1.0]), max);
+        // An intermediate overflow of a running sum does not matter: the sum is exact.
+        assert_eq!(sum(&[max, max, -max]), max);
+        assert_eq!(sum(&[max, max, -max, -max, 1e-300]), 1e-300);
+        // The smallest subnormals, and the whole range in one sum.
+        let tiny = f64::from_bits(1);
+        assert_eq!(sum(&[tiny, tiny, tiny]).to_bits(), 3);
+        assert_eq!(sum(&[max, tiny, -max]), tiny);
+        assert_eq!(sum(&[1.0, tiny, -1.0, 2f64.powi(-1022), -tiny]), 2f64.powi(-1022));
+    }
+
+    #[test]
+    fn the_fallback_matches_the_reference_over_the_whole_range() {
+        // Many terms anywhere from the subnormals to near f64::MAX (sums that stay finite:
+        // at most 30 terms below 2^1018), with exact cancellation of a subset.
+        let mut seed = 4242;
+        for case in 0..5_000 {
+            let n = 1 + (next(&mut seed) % 30) as usize;
+            let mut terms: Vec<f64> = (0..n).map(|_| random_double(&mut seed, 0..2041)).collect();
+            if case % 3 == 0 {
+                terms.extend(terms.clone().iter().step_by(2).map(|x| -x));
+            }
+            check(&terms);
+        }
+        // More terms than the window takes, over 300 binades.
+        let terms: Vec<f64> = (0..5000).map(|_| random_double(&mut seed, 700..1000)).collect();
+        check(&terms);
+    }
+
+    #[test]
+    fn the_fallback_is_exact_across_its_carry_normalisation() {
+        // The wide accumulator normalises its carries every WIDE_BATCH terms; start it
+        // just before that point so the normalisation happens in the middle of each sum.
+        let mut seed = 808;
+        for case in 0..2_000 {
+            let n = 2 + (next(&mut seed) % 20) as usize;
+            let (a, b) = if case % 2 == 0 { (0, 2040) } else { (1000, 1100) };
+            let mut terms: Vec<f64> = (0..n).map(|_| random_double(&mut seed, a..b)).collect();
+            terms.extend(terms.clone().iter().step_by(3).map(|x| -x));
+            let mut w = Wide::new();
+            w.adds = WIDE_BATCH - 1 - (next(&mut seed) % n as u64) as u32;
+            terms.iter().filter(|t| **t != 0.0).for_each(|&t| w.add_double(t));
+            assert_eq!(w.value().to_bits(), reference_sum(&terms).to_bits(), "{terms:?}");
+        }
     }
 
     /// The one-lane fast sum, if certified.

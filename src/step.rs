@@ -19,7 +19,9 @@
 //!   same bits);
 //! * the crack field assignment runs in parallel and tests only the crack segments near
 //!   each particle–node pair ([`crate::crack::geometry::SegmentIndex`]);
-//! * invariant checks run only in checked mode; energies only at history rows.
+//! * invariant checks run only in checked mode; energies only at history rows;
+//! * nothing allocates once the buffers have grown to the scene (checked or not, any
+//!   thread count; `tests/no_alloc.rs`).
 
 use crate::check::{CheckError, MASS_TOL, MOMENTUM_TOL, PARTITION_TOL};
 use crate::dim::{Sym, Tensor, Vector};

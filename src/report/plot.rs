@@ -1,9 +1,10 @@
 //! PNG plots for the reports, drawn with `plotters` on its bitmap backend.
 //!
-//! Three kinds of plot, each a function taking plain data:
+//! Four kinds of plot, each a function taking plain data:
 //!
 //! * [`line_plot`] — named x–y series on linear axes, optionally with markers,
-//!   and reference curves (exact solutions) drawn as dashed black lines.
+//!   and reference curves (exact solutions) drawn as dashed black lines;
+//!   [`semilog_y_plot`] the same with a logarithmic y axis.
 //! * [`loglog_convergence`] — error versus cell size on log–log axes, with the
 //!   least-squares power law drawn and its order in the legend ([`fit_order`]).
 //! * [`pareto_plot`] — run time versus error on log–log axes with the Pareto
@@ -340,6 +341,49 @@ pub fn line_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> 
         .with_context(|| format!("writing {}", path.as_ref().display()))
 }
 
+/// Named x–y series on a linear x and a logarithmic y axis (every y must be positive),
+/// for quantities spanning decades, such as energies that decay. Colours and legend as
+/// [`line_plot`].
+pub fn semilog_y_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> Result<()> {
+    ensure!(
+        !series.is_empty(),
+        "semilog plot '{}' has no series",
+        spec.title
+    );
+    for s in series {
+        check_points(&s.name, &s.points, Axes::LogY)?;
+    }
+    let all_points = || series.iter().flat_map(|s| s.points.iter());
+    let x_range = linear_range(all_points().map(|p| p.0), spec.x_range)?;
+    let y_range = log_range(all_points().map(|p| p.1), spec.y_range)?;
+
+    let root = open_canvas(path.as_ref(), spec)?;
+    let mut chart =
+        chart_builder(&root, spec).build_cartesian_2d(x_range.clone(), log_axis(&y_range))?;
+    draw_mesh(
+        &mut chart,
+        spec,
+        &linear_tick_formatter(&x_range),
+        &|y| format_tick(*y),
+    )?;
+
+    let mut colors = PALETTE.iter().cycle();
+    for s in series {
+        if s.reference {
+            draw_dashed(&mut chart, &s.name, &s.points, BLACK)?;
+        } else {
+            let color = *colors.next().expect("cycle never ends");
+            draw_line(&mut chart, &s.name, &s.points, color, s.markers)?;
+        }
+    }
+    draw_legend(
+        &mut chart,
+        spec.legend.unwrap_or(LegendPosition::UpperRight),
+    )?;
+    root.present()
+        .with_context(|| format!("writing {}", path.as_ref().display()))
+}
+
 /// Error versus cell size `(h, error)` on log–log axes, with the least-squares
 /// power law `C h^p` drawn dashed over the data and "fitted order p = …" in the
 /// legend (upper left by default). Needs at least two points with distinct h.
@@ -596,6 +640,8 @@ where
 enum Axes {
     Linear,
     LogLog,
+    /// Linear x, logarithmic y.
+    LogY,
 }
 
 /// Every point finite (and positive on log–log axes), and at least one point.
@@ -611,6 +657,9 @@ fn check_points(name: &str, points: &[(f64, f64)], axes: Axes) -> Result<()> {
                 x > 0.0 && y > 0.0,
                 "series '{name}' point {i} is not positive on log axes: ({x}, {y})"
             );
+        }
+        if axes == Axes::LogY {
+            ensure!(y > 0.0, "series '{name}' point {i} is not positive on a log y axis: ({x}, {y})");
         }
     }
     Ok(())

@@ -77,6 +77,9 @@ impl Measurement {
 pub enum Plot {
     /// Named x–y series on linear axes ([`crate::report::plot::line_plot`]).
     Lines(Vec<Series>),
+    /// Named x–y series, linear x and logarithmic y (every y > 0;
+    /// [`crate::report::plot::semilog_y_plot`]).
+    LogY(Vec<Series>),
     /// Error versus cell size on log–log axes with the fitted order.
     Convergence { points: Vec<(f64, f64)>, label: String },
     /// Run time versus error with the Pareto front marked.

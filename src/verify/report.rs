@@ -107,6 +107,7 @@ pub fn draw(dir: &Path, f: &Figure) -> anyhow::Result<()> {
     let path = dir.join(&f.file);
     match &f.plot {
         Plot::Lines(series) => plot::line_plot(&path, &f.spec, series),
+        Plot::LogY(series) => plot::semilog_y_plot(&path, &f.spec, series),
         Plot::Convergence { points, label } => plot::loglog_convergence(&path, &f.spec, points, label),
         Plot::Pareto(points) => plot::pareto_plot(&path, &f.spec, points),
         Plot::Particles { particles, lines, value_label } => {

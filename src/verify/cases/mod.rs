@@ -42,6 +42,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "plates_k", run: plates::run },
     Case { name: "mpm_vs_fea", run: fea::run_mpm_vs_fea },
     Case { name: "bar_long", run: vibrating_bar::run_long },
+    Case { name: "dcb_long", run: fracture::run_dcb_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },
 ];
 
