@@ -278,23 +278,25 @@ impl Simulation {
             }
         };
         let cm = |i: usize| this.centre_of_mass_velocity(i);
+        // Every point moves independently of the others, so the points are updated in
+        // parallel (the bits do not depend on how they are split).
+        const POINT_CHUNK: usize = 32;
         for (c, crack) in cracks.iter_mut().enumerate() {
             // The surfaces first: their fields are found against the crack before it moves.
             {
-                let points = &crack.points;
+                let Crack { points, above, below, .. } = &mut *crack;
+                let points = &*points;
                 let index = &mut indices[c];
                 index.rebuild(points);
                 let index = &*index;
                 let side = |i: usize, above: bool| {
                     this.surface_field(c, points, index, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i])
                 };
-                for (x, above) in crack.above.iter_mut().map(|x| (x, true)).chain(crack.below.iter_mut().map(|x| (x, false))) {
-                    *x += velocity(x, &|i| side(i, above)) * dt;
+                for (surface, is_above) in [(above, true), (below, false)] {
+                    surface.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += velocity(x, &|i| side(i, is_above)) * dt);
                 }
             }
-            for x in crack.points.iter_mut() {
-                *x += velocity(x, &cm) * dt;
-            }
+            crack.points.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += velocity(x, &cm) * dt);
             crack.extent = Extent::of(&crack.points);
         }
         self.cracks = cracks;
