@@ -324,19 +324,7 @@ pub fn line_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]) -> 
         &linear_tick_formatter(&y_range),
     )?;
 
-    let mut colors = PALETTE.iter().cycle();
-    for s in series {
-        if s.reference {
-            draw_dashed(&mut chart, &s.name, &s.points, BLACK)?;
-        } else {
-            let color = *colors.next().expect("cycle never ends");
-            draw_line(&mut chart, &s.name, &s.points, color, s.markers)?;
-        }
-    }
-    draw_legend(
-        &mut chart,
-        spec.legend.unwrap_or(LegendPosition::UpperRight),
-    )?;
+    draw_series_and_legend(&mut chart, spec, series)?;
     root.present()
         .with_context(|| format!("writing {}", path.as_ref().display()))
 }
@@ -367,19 +355,7 @@ pub fn semilog_y_plot(path: impl AsRef<Path>, spec: &PlotSpec, series: &[Series]
         &|y| format_tick(*y),
     )?;
 
-    let mut colors = PALETTE.iter().cycle();
-    for s in series {
-        if s.reference {
-            draw_dashed(&mut chart, &s.name, &s.points, BLACK)?;
-        } else {
-            let color = *colors.next().expect("cycle never ends");
-            draw_line(&mut chart, &s.name, &s.points, color, s.markers)?;
-        }
-    }
-    draw_legend(
-        &mut chart,
-        spec.legend.unwrap_or(LegendPosition::UpperRight),
-    )?;
+    draw_series_and_legend(&mut chart, spec, series)?;
     root.present()
         .with_context(|| format!("writing {}", path.as_ref().display()))
 }
@@ -611,6 +587,25 @@ where
         .label(name)
         .legend(move |(x, y)| DashedPathElement::new(vec![(x, y), (x + 24, y)], 7, 4, style));
     Ok(())
+}
+
+/// The series of a line plot, references dashed black and the others in palette
+/// order, and the legend (upper right unless the spec says otherwise).
+fn draw_series_and_legend<'a, 'b: 'a, X, Y>(chart: &mut Chart<'a, 'b, X, Y>, spec: &PlotSpec, series: &[Series]) -> Result<()>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let mut colors = PALETTE.iter().cycle();
+    for s in series {
+        if s.reference {
+            draw_dashed(chart, &s.name, &s.points, BLACK)?;
+        } else {
+            let color = *colors.next().expect("cycle never ends");
+            draw_line(chart, &s.name, &s.points, color, s.markers)?;
+        }
+    }
+    draw_legend(chart, spec.legend.unwrap_or(LegendPosition::UpperRight))
 }
 
 /// The legend box: white, framed, over the plot.
