@@ -294,10 +294,10 @@ impl Simulation {
         let crack = &self.cracks[c];
         let np = crack.points.len();
         let h = self.grid.h.x.max(self.grid.h.y);
-        // Crack particles from the tip backwards.
-        let order: Vec<usize> = match end {
-            TipEnd::End => (0..np).rev().collect(),
-            TipEnd::Start => (0..np).collect(),
+        // The k-th crack particle counting from the tip.
+        let from_tip = |k: usize| match end {
+            TipEnd::End => np - 1 - k,
+            TipEnd::Start => k,
         };
         let length: f64 = crack.points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         let (r_from, r_to) = (FIT_FROM * h, (FIT_TO * h).min(0.5 * length));
@@ -305,15 +305,15 @@ impl Simulation {
         let mut ata = nalgebra::Matrix3::<f64>::zeros();
         let mut atb = nalgebra::Matrix3x2::<f64>::zeros();
         let (mut r, mut n) = (0.0, 0);
-        for w in order.windows(2) {
-            r += (crack.points[w[1]] - crack.points[w[0]]).norm();
+        for j in 1..np {
+            let (prev, k) = (from_tip(j - 1), from_tip(j));
+            r += (crack.points[k] - crack.points[prev]).norm();
             if r > r_to {
                 break;
             }
             if r < r_from {
                 continue;
             }
-            let k = w[1];
             // Local tip coordinates at k: e₁ toward the tip along the crack, e₂ to the
             // upper face; δ = upper − lower.
             let t = crack.tangent(k)?;
