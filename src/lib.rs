@@ -5,6 +5,7 @@
 //!
 //! * [`dim`] — the only place that knows the spatial dimension.
 //! * [`exact`] — correctly rounded, order-independent summation (every grid sum uses it).
+//! * [`fingerprint`] — bit fingerprints of final states for the golden snapshots.
 //! * [`grid`] — the background grid and its per-velocity-field nodal arrays.
 //! * [`shape`] — linear and uGIMP shape functions.
 //! * [`particles`] — material points, struct-of-arrays.
@@ -27,6 +28,7 @@ pub mod crack;
 pub mod dim;
 pub mod exact;
 pub mod fea;
+pub mod fingerprint;
 pub mod fracture;
 pub mod grid;
 pub mod material;

@@ -210,6 +210,14 @@ pub struct Simulation {
     pub growth: Option<crate::fracture::growth::Growth>,
 }
 
+/// A verification case records the fingerprint of every simulation it ran
+/// ([`crate::fingerprint`]); nothing happens outside a case.
+impl Drop for Simulation {
+    fn drop(&mut self) {
+        crate::fingerprint::on_drop(self);
+    }
+}
+
 impl Simulation {
     /// Assemble a simulation; `dt` and everything else come resolved from the scene.
     #[allow(clippy::too_many_arguments)]

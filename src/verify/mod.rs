@@ -174,6 +174,10 @@ pub struct CaseResult {
     /// Why the case failed to run (a simulation error, a check without measurement, …).
     pub errors: Vec<String>,
     pub rows: Vec<Row>,
+    /// The bit fingerprint of every simulation the case ran, in order
+    /// ([`crate::fingerprint`]).
+    #[serde(skip)]
+    pub fingerprints: Vec<u64>,
     pub sweep: Vec<SweepPoint>,
     #[serde(skip)]
     pub figures: Vec<Figure>,
@@ -232,7 +236,9 @@ pub fn select(names: &[String], variant: Variant) -> anyhow::Result<Vec<Case>> {
 /// Run one case and evaluate its measurements against the manifest.
 pub fn run_case(case: &Case, variant: Variant) -> CaseResult {
     let start = Instant::now();
+    let recorder = crate::fingerprint::Recorder::start();
     let output = (case.run)(variant);
+    let fingerprints = recorder.finish();
     let wall_s = start.elapsed().as_secs_f64();
     let mut result = CaseResult {
         name: case.name.to_string(),
@@ -241,6 +247,7 @@ pub fn run_case(case: &Case, variant: Variant) -> CaseResult {
         wall_s,
         errors: Vec::new(),
         rows: Vec::new(),
+        fingerprints,
         sweep: Vec::new(),
         figures: Vec::new(),
         notes: Vec::new(),
@@ -310,7 +317,9 @@ pub fn round_sig(x: f64, digits: u32) -> f64 {
 /// The headline numbers of a result for the golden snapshot: per row the check, label,
 /// pass flag and the value rounded as the manifest's `golden_digits` says (checks with
 /// `golden_digits = 0`, round-off-level quantities, keep only the pass flag). Wall times
-/// are left out.
+/// are left out. The `fingerprint` is the hash of the exact final state of every
+/// simulation the case ran ([`crate::fingerprint`]): any moved bit shows up there even
+/// when the rounded values do not change.
 pub fn headline(result: &CaseResult) -> anyhow::Result<serde_json::Value> {
     let manifest = Manifest::get()?;
     let case = manifest.case(&result.name).ok_or_else(|| anyhow!("no manifest entry for {}", result.name))?;
@@ -327,7 +336,17 @@ pub fn headline(result: &CaseResult) -> anyhow::Result<serde_json::Value> {
         })
         .collect();
     Ok(
-        serde_json::json!({ "case": result.name, "variant": result.variant, "passed": result.passed, "errors": result.errors, "rows": rows }),
+        serde_json::json!({
+            "case": result.name,
+            "variant": result.variant,
+            "passed": result.passed,
+            "errors": result.errors,
+            "rows": rows,
+            "fingerprint": {
+                "simulations": result.fingerprints.len(),
+                "bits": format!("{:016x}", crate::fingerprint::combine(&result.fingerprints)),
+            },
+        }),
     )
 }
 
