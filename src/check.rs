@@ -5,7 +5,7 @@
 //! particle outside the grid, a non-finite value in a step that would propagate); the
 //! rest run when `checked` is set (the default in tests and verification runs).
 
-use crate::dim::Vector;
+use crate::dim::VectorOps;
 use thiserror::Error;
 
 /// Tolerance on the shape-function partition of unity |ΣS − 1| (a few ulps of summing ≤ 9
@@ -20,16 +20,16 @@ pub const MOMENTUM_TOL: f64 = 1e-10;
 
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum CheckError {
-    #[error("step {step}: particle {particle} (id {id}) at ({x:.6e}, {y:.6e}) is outside the grid [{xmin}, {xmax}] × [{ymin}, {ymax}] (uGIMP needs its domain half-width inside too)")]
-    OutsideGrid { step: u64, particle: usize, id: u32, x: f64, y: f64, xmin: f64, xmax: f64, ymin: f64, ymax: f64 },
-    #[error("step {step}: partition of unity fails at particle {particle} (id {id}): ΣS = {sum_s:.17e}, ΣG = ({gx:.3e}, {gy:.3e})")]
-    PartitionOfUnity { step: u64, particle: usize, id: u32, sum_s: f64, gx: f64, gy: f64 },
+    #[error("step {step}: particle {particle} (id {id}) at {} is outside the grid {} (uGIMP needs its domain half-width inside too)", fmt_point(x, 6), fmt_box(lo, hi))]
+    OutsideGrid { step: u64, particle: usize, id: u32, x: Vec<f64>, lo: Vec<f64>, hi: Vec<f64> },
+    #[error("step {step}: partition of unity fails at particle {particle} (id {id}): ΣS = {sum_s:.17e}, ΣG = {}", fmt_point(g, 3))]
+    PartitionOfUnity { step: u64, particle: usize, id: u32, sum_s: f64, g: Vec<f64> },
     #[error("step {step}: node {node} field {field} is in use with non-positive mass {mass:e}")]
     NodalMass { step: u64, node: usize, field: usize, mass: f64 },
     #[error("step {step}: total mass on the grid {grid:.17e} differs from the particles' {particles:.17e}")]
     TotalMass { step: u64, grid: f64, particles: f64 },
-    #[error("step {step}: momentum not conserved in {stage}: before ({bx:.9e}, {by:.9e}), after ({ax:.9e}, {ay:.9e}), tolerance {tol:.3e}")]
-    Momentum { step: u64, stage: &'static str, bx: f64, by: f64, ax: f64, ay: f64, tol: f64 },
+    #[error("step {step}: momentum not conserved in {stage}: before {}, after {}, tolerance {tol:.3e}", fmt_point(before, 9), fmt_point(after, 9))]
+    Momentum { step: u64, stage: &'static str, before: Vec<f64>, after: Vec<f64>, tol: f64 },
     #[error("step {step}: non-finite {what} at particle {particle} (id {id}): {value}")]
     NonFiniteParticle { step: u64, particle: usize, id: u32, what: &'static str, value: String },
     #[error("step {step}: non-finite {what} at node {node} field {field}: {value}")]
@@ -48,7 +48,24 @@ pub enum CheckError {
     Unstable { step: u64, total: f64, scale: f64 },
 }
 
-/// Format a vector for error messages.
-pub fn fmt_vec(v: &Vector) -> String {
-    format!("({:e}, {:e})", v.x, v.y)
+/// Format a vector for error messages: `(1e0, 2.5e-1)`.
+pub fn fmt_vec<V: VectorOps>(v: &V) -> String {
+    let parts: Vec<String> = (0..V::DIM).map(|c| format!("{:e}", v[c])).collect();
+    format!("({})", parts.join(", "))
+}
+
+/// The components of a vector, for the errors that carry them.
+pub fn components<V: VectorOps>(v: &V) -> Vec<f64> {
+    (0..V::DIM).map(|c| v[c]).collect()
+}
+
+/// `(x, y[, z])` in scientific notation with `digits` after the point.
+pub fn fmt_point(x: &[f64], digits: usize) -> String {
+    let parts: Vec<String> = x.iter().map(|c| format!("{c:.digits$e}")).collect();
+    format!("({})", parts.join(", "))
+}
+
+/// `[x0, x1] × [y0, y1][ × [z0, z1]]`.
+pub fn fmt_box(lo: &[f64], hi: &[f64]) -> String {
+    lo.iter().zip(hi).map(|(a, b)| format!("[{a}, {b}]")).collect::<Vec<_>>().join(" × ")
 }

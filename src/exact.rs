@@ -484,6 +484,59 @@ impl<const N: usize> Accumulator<N> for FastSum<N> {
     }
 }
 
+/// The summation lanes of one gather in a dimension-generic form: `[f64; N]` with its fast
+/// and exact accumulators. The generic time step names its lanes through
+/// [`crate::dim::Space`] (`MassLanes` = 1 + DIM, `TensorLanes` = DIM², …), because stable
+/// Rust cannot write `[f64; DIM + 1]` for a generic dimension.
+pub trait Lanes: Copy + Default + Send + Sync + std::ops::Index<usize, Output = f64> + std::ops::IndexMut<usize> + 'static {
+    type Fast: LaneSum<Self>;
+    type Exact: LaneSum<Self>;
+}
+
+/// An [`Accumulator`] seen through its lane array type.
+pub trait LaneSum<L>: Default {
+    fn add_lanes(&mut self, x: L);
+    fn certified_lanes(&self) -> Option<L>;
+}
+
+impl<const N: usize, A: Accumulator<N>> LaneSum<[f64; N]> for A {
+    #[inline(always)]
+    fn add_lanes(&mut self, x: [f64; N]) {
+        self.add(x)
+    }
+    #[inline(always)]
+    fn certified_lanes(&self) -> Option<[f64; N]> {
+        self.certified()
+    }
+}
+
+impl<const N: usize> Lanes for [f64; N]
+where
+    [f64; N]: Default,
+{
+    type Fast = FastSum<N>;
+    type Exact = ExactSums<N>;
+}
+
+/// Which accumulator a gather runs with: [`Fast`] first, [`Exact`] when the fast one
+/// cannot certify its sums.
+pub trait SumKind {
+    type Of<L: Lanes>: LaneSum<L>;
+}
+
+/// [`FastSum`] lanes.
+pub struct Fast;
+/// [`ExactSums`] lanes.
+pub struct Exact;
+
+impl SumKind for Fast {
+    type Of<L: Lanes> = L::Fast;
+}
+
+impl SumKind for Exact {
+    type Of<L: Lanes> = L::Exact;
+}
+
 /// The certificate of [`FastSum`] for one lane (see there for the proof).
 #[inline]
 fn certify(s: f64, c: f64, a: f64, m: f64, n: u32) -> Option<f64> {

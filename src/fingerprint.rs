@@ -13,7 +13,8 @@
 //! Cases run their scenes sequentially on the calling thread, so the order of the
 //! recorded fingerprints is the order of the case's code.
 
-use crate::simulation::Simulation;
+use crate::dim::{SymOps, TensorOps};
+use crate::simulation::{Dimension, Simulation};
 use std::cell::RefCell;
 
 /// 64-bit FNV-1a (Fowler–Noll–Vo): fixed, portable, and enough to detect a changed bit.
@@ -72,7 +73,7 @@ impl Drop for Recorder {
 }
 
 /// Called when a simulation is dropped: record its fingerprint if a recorder is open.
-pub(crate) fn on_drop(sim: &Simulation) {
+pub(crate) fn on_drop<S: Dimension>(sim: &Simulation<S>) {
     let active = RECORDER.with(|r| r.borrow().is_some());
     if active {
         let f = fingerprint(sim);
@@ -85,7 +86,7 @@ pub(crate) fn on_drop(sim: &Simulation) {
 }
 
 /// The fingerprint of a simulation's current state (see the module documentation).
-pub fn fingerprint(sim: &Simulation) -> u64 {
+pub fn fingerprint<S: Dimension>(sim: &Simulation<S>) -> u64 {
     let p = &sim.particles;
     let mut order: Vec<usize> = (0..p.len()).collect();
     order.sort_unstable_by_key(|&i| p.id[i]);
@@ -93,17 +94,14 @@ pub fn fingerprint(sim: &Simulation) -> u64 {
     h.bytes(&(p.len() as u64).to_le_bytes());
     for &i in &order {
         h.bytes(&p.id[i].to_le_bytes());
-        h.f64s(p.x[i].iter().copied());
-        h.f64s(p.v[i].iter().copied());
-        let (s, e) = (p.stress[i], p.strain[i]);
-        h.f64s([s.xx, s.yy, s.zz, s.xy, e.xx, e.yy, e.zz, e.xy]);
-        h.f64s(p.grad_u[i].iter().copied());
+        h.f64s((0..S::DIM).map(|c| p.x[i][c]));
+        h.f64s((0..S::DIM).map(|c| p.v[i][c]));
+        h.f64s(p.stress[i].components().into_iter().chain(p.strain[i].components()));
+        // Column-major, as nalgebra stores it.
+        h.f64s((0..S::DIM).flat_map(|b| (0..S::DIM).map(move |a| (a, b))).map(|(a, b)| p.grad_u[i].get(a, b)));
     }
-    for c in &sim.cracks {
-        h.bytes(&(c.points.len() as u64).to_le_bytes());
-        for pts in [&c.points, &c.above, &c.below] {
-            h.f64s(pts.iter().flat_map(|q| q.iter().copied()));
-        }
+    for word in S::crack_state_bits(&sim.cracks) {
+        h.bytes(&word.to_le_bytes());
     }
     let e = sim.energies();
     h.f64s([e.kinetic, e.strain, e.external_work, e.damping, sim.time]);

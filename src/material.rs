@@ -1,7 +1,7 @@
 //! Constitutive laws. Only isotropic linear elasticity today, behind the
 //! [`Constitutive`] trait so other laws can follow without touching the time step.
 
-use crate::dim::Sym;
+use crate::dim::{Sym, Sym3};
 use serde::{Deserialize, Serialize};
 
 /// The 2D idealisation of the third direction.
@@ -75,6 +75,40 @@ impl LinearElastic {
         (self.shear_modulus() / self.rho).sqrt()
     }
 
+    /// Lamé λ of the 3D solid, Eν/((1+ν)(1−2ν)) (the plane-strain λ).
+    pub fn lambda_3d(&self) -> f64 {
+        self.e * self.nu / ((1.0 + self.nu) * (1.0 - 2.0 * self.nu))
+    }
+
+    /// A material of a 3D scene: there is no plane state, and λ, the dilatational wave
+    /// speed c_d = √((λ+2μ)/ρ) and E' are those of the 3D solid, which are the
+    /// plane-strain ones; so it is stored as plane strain.
+    pub fn solid(e: f64, nu: f64, rho: f64) -> Self {
+        LinearElastic { e, nu, rho, state: PlaneState::PlaneStrain }
+    }
+
+    /// Hooke's law in increments in 3D: dσ = λ tr(dε) I + 2μ dε (tensor shear). Like the
+    /// 2D update, each component is a fixed expression of the same operands, so a
+    /// mirrored increment gives a mirrored stress to the bit, and an increment with no z
+    /// components gives the plane-strain update's operations on the in-plane components.
+    pub fn update_3d(&self, de: &Sym3, strain: &mut Sym3, stress: &mut Sym3) {
+        let l = self.lambda_3d();
+        let m = self.shear_modulus();
+        let tr = de.xx + de.yy + de.zz;
+        strain.xx += de.xx;
+        strain.yy += de.yy;
+        strain.zz += de.zz;
+        strain.xy += de.xy;
+        strain.xz += de.xz;
+        strain.yz += de.yz;
+        stress.xx += l * tr + 2.0 * m * de.xx;
+        stress.yy += l * tr + 2.0 * m * de.yy;
+        stress.zz += l * tr + 2.0 * m * de.zz;
+        stress.xy += 2.0 * m * de.xy;
+        stress.xz += 2.0 * m * de.xz;
+        stress.yz += 2.0 * m * de.yz;
+    }
+
     /// In-plane constitutive matrix in Voigt form [xx, yy, γxy] (engineering shear).
     pub fn d_matrix(&self) -> nalgebra::Matrix3<f64> {
         let l = self.lambda();
@@ -131,6 +165,17 @@ mod tests {
         let c11 = 200.0 * 0.7 / (1.3 * 0.4);
         assert!((s.xx - c11 * 1e-3).abs() < 1e-12);
         assert!((s.zz - 0.3 * (s.xx + s.yy)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn three_d_uniaxial_stress_has_poisson_contraction_only() {
+        let m = LinearElastic::solid(200.0, 0.3, 1.0);
+        let (mut e, mut s) = (Sym3::ZERO, Sym3::ZERO);
+        // εxx = σ/E, εyy = εzz = −νσ/E with σ = 0.2: σyy = σzz = 0, σxx = 0.2.
+        m.update_3d(&Sym3 { xx: 1e-3, yy: -0.3e-3, zz: -0.3e-3, ..Sym3::ZERO }, &mut e, &mut s);
+        assert!((s.xx - 0.2).abs() < 1e-14 && s.yy.abs() < 1e-15 && s.zz.abs() < 1e-15);
+        m.update_3d(&Sym3 { yz: 1e-3, ..Sym3::ZERO }, &mut e, &mut s);
+        assert!((s.yz - 2e-3 * m.shear_modulus()).abs() < 1e-15);
     }
 
     #[test]

@@ -1,38 +1,39 @@
 //! Material points, stored as a struct of arrays for the hot loops (Nairn 2003,
 //! appendix Task 0: position, velocity, stress, strain, mass, density, thickness).
 
-use crate::dim::{Sym, Tensor, Vector};
+use crate::dim::{Space, SymOps, TensorOps, VectorOps, D2};
 
 /// All material points of a scene. Index `p` addresses the same particle in every array.
+/// Generic over the dimension `S` (2D by default).
 #[derive(Clone, Debug, Default)]
-pub struct Particles {
+pub struct Particles<S: Space = D2> {
     /// Stable identifier, unchanged when particles are reordered (outputs are sorted by it).
     pub id: Vec<u32>,
     /// Current position x_p.
-    pub x: Vec<Vector>,
+    pub x: Vec<S::Vector>,
     /// Initial position, for displacements.
-    pub x0: Vec<Vector>,
+    pub x0: Vec<S::Vector>,
     /// Velocity v_p.
-    pub v: Vec<Vector>,
+    pub v: Vec<S::Vector>,
     /// Mass m_p (density × area × thickness).
     pub mass: Vec<f64>,
     /// Undeformed volume m_p/ρ_p (area × thickness).
     pub vol0: Vec<f64>,
     /// Half-widths of the undeformed particle domain (uGIMP).
-    pub lp: Vec<Vector>,
+    pub lp: Vec<S::Vector>,
     /// Cauchy stress (small strain: the specific stress of the paper times ρ_p).
-    pub stress: Vec<Sym>,
+    pub stress: Vec<S::Sym>,
     /// Small strain, accumulated from the increments of eq. 35.
-    pub strain: Vec<Sym>,
+    pub strain: Vec<S::Sym>,
     /// Displacement gradient ∂u_a/∂x_b, accumulated from the velocity gradient (eq. 36).
     /// Its off-diagonal terms are the ∂u₁/∂y and ∂u₂/∂x that the J-integral needs separately.
-    pub grad_u: Vec<Tensor>,
+    pub grad_u: Vec<S::Tensor>,
     /// Index into the scene's materials.
     pub material: Vec<u16>,
     /// Index into the scene's bodies.
     pub body: Vec<u16>,
     /// Applied point force f_p at the current time (set from the scene's loads each step).
-    pub force: Vec<Vector>,
+    pub force: Vec<S::Vector>,
     /// Index of the load that acts on this particle, or [`NO_LOAD`].
     pub load: Vec<u16>,
 }
@@ -40,7 +41,7 @@ pub struct Particles {
 /// Marker for a particle without an applied load.
 pub const NO_LOAD: u16 = u16::MAX;
 
-impl Particles {
+impl<S: Space> Particles<S> {
     pub fn len(&self) -> usize {
         self.x.len()
     }
@@ -51,7 +52,7 @@ impl Particles {
 
     /// Append one particle at rest with zero stress.
     #[allow(clippy::too_many_arguments)]
-    pub fn push(&mut self, x: Vector, v: Vector, mass: f64, vol0: f64, lp: Vector, material: u16, body: u16) {
+    pub fn push(&mut self, x: S::Vector, v: S::Vector, mass: f64, vol0: f64, lp: S::Vector, material: u16, body: u16) {
         self.id.push(self.x.len() as u32);
         self.x.push(x);
         self.x0.push(x);
@@ -59,20 +60,21 @@ impl Particles {
         self.mass.push(mass);
         self.vol0.push(vol0);
         self.lp.push(lp);
-        self.stress.push(Sym::ZERO);
-        self.strain.push(Sym::ZERO);
-        self.grad_u.push(Tensor::zeros());
+        self.stress.push(S::Sym::ZERO);
+        self.strain.push(S::Sym::ZERO);
+        self.grad_u.push(S::Tensor::zeros());
         self.material.push(material);
         self.body.push(body);
-        self.force.push(Vector::zeros());
+        self.force.push(S::Vector::zeros());
         self.load.push(NO_LOAD);
     }
 
-    /// Current volume by eq. 25 of Nairn 2003: V = (1+εxx)(1+εyy) m/(ρ t) (times t here,
-    /// since vol0 already includes the thickness). Used for the contact volumes (eq. 27).
+    /// Current volume by eq. 25 of Nairn 2003: V = (1+εxx)(1+εyy) m/(ρ t) in 2D (times t
+    /// here, since vol0 already includes the thickness), (1+εxx)(1+εyy)(1+εzz) m/ρ in 3D.
+    /// Used for the contact volumes (eq. 27).
     #[inline]
     pub fn volume(&self, p: usize) -> f64 {
-        (1.0 + self.strain[p].xx) * (1.0 + self.strain[p].yy) * self.vol0[p]
+        S::volume(&self.strain[p], self.vol0[p])
     }
 
     /// Reorder all arrays by `perm` (new index k takes old particle perm[k]). Used by the

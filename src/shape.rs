@@ -5,8 +5,8 @@
 //! both are written as functions of |ξ| with the sign applied to the gradient only, so a
 //! particle mirrored about a grid line gets mirrored weights to the bit.
 
-use crate::dim::Vector;
-use crate::grid::Grid;
+use crate::dim::{Vector, Vector3};
+use crate::grid::{Grid, Grid3};
 use serde::{Deserialize, Serialize};
 
 /// Which shape functions the scene uses.
@@ -20,8 +20,12 @@ pub enum ShapeKind {
     Ugimp,
 }
 
-/// Most nodes a particle can touch: 3 per direction for uGIMP.
+/// Most nodes a particle can touch in 2D: 3 per direction for uGIMP
+/// (`<D2 as Space>::MAX_NODES`).
 pub const MAX_NODES: usize = 9;
+
+/// Most nodes a particle can touch in 3D: 3 per direction for uGIMP.
+pub const MAX_NODES_3D: usize = 27;
 
 /// The nodes a particle interacts with, their weights S and gradients G.
 #[derive(Clone, Copy, Debug)]
@@ -169,6 +173,54 @@ pub fn weights_into(
     k
 }
 
+/// The 3D weights (trilinear or uGIMP, the tensor product of the same 1D functions as
+/// in 2D) written into the first entries of `node`, `s` and `g`; returns how many. Nodes
+/// run x fastest, then y, then z. S = (Sx·Sy)·Sz and G = (S'x·Sy·Sz, Sx·S'y·Sz, Sx·Sy·S'z):
+/// a fixed grouping, so a particle mirrored about a grid plane gets mirrored bits.
+#[inline(always)]
+pub fn weights_into_3d(
+    grid: &Grid3,
+    kind: ShapeKind,
+    x: &Vector3,
+    lp: &Vector3,
+    node: &mut [u32; MAX_NODES_3D],
+    s: &mut [f64; MAX_NODES_3D],
+    g: &mut [Vector3; MAX_NODES_3D],
+) -> usize {
+    let reach = match kind {
+        ShapeKind::Linear => Vector3::zeros(),
+        ShapeKind::Ugimp => *lp,
+    };
+    let mut w = [[(0.0, 0.0); 3]; 3];
+    let mut idx = [[0usize; 3]; 3];
+    let mut k = [0usize; 3];
+    for c in 0..3 {
+        k[c] = axis_weights(kind, x[c], grid.origin[c], grid.h[c], reach[c], lp[c], grid.n[c], &mut w[c], &mut idx[c]);
+    }
+    let mut n = 0;
+    for cz in 0..k[2] {
+        let (sz, dz) = w[2][cz];
+        for b in 0..k[1] {
+            let (sy, dy) = w[1][b];
+            for a in 0..k[0] {
+                let (sx, dx) = w[0][a];
+                node[n] = grid.node_index(idx[0][a], idx[1][b], idx[2][cz]) as u32;
+                s[n] = (sx * sy) * sz;
+                g[n] = Vector3::new((dx * sy) * sz, (sx * dy) * sz, (sx * sy) * dz);
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+/// [`weights_into_3d`] as a value (tests, J contours).
+pub fn weights_3d(grid: &Grid3, kind: ShapeKind, x: &Vector3, lp: &Vector3) -> (usize, [u32; MAX_NODES_3D], [f64; MAX_NODES_3D], [Vector3; MAX_NODES_3D]) {
+    let (mut node, mut s, mut g) = ([0; MAX_NODES_3D], [0.0; MAX_NODES_3D], [Vector3::zeros(); MAX_NODES_3D]);
+    let n = weights_into_3d(grid, kind, x, lp, &mut node, &mut s, &mut g);
+    (n, node, s, g)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -240,6 +292,56 @@ mod tests {
                 assert_eq!(a.s[k].to_bits(), b.s[j].to_bits());
                 assert_eq!(a.g[k].x.to_bits(), b.g[j].x.to_bits());
                 assert_eq!(a.g[k].y.to_bits(), (-b.g[j].y).to_bits());
+            }
+        }
+    }
+
+    #[test]
+    fn partition_of_unity_3d_and_extrusion_of_2d() {
+        let g3 = Grid3 { origin: Vector3::new(-2.0, -3.0, 1.0), h: Vector3::new(0.5, 0.25, 0.4), n: [20, 40, 10] };
+        let g2 = Grid { origin: Vector::new(-2.0, -3.0), h: Vector::new(0.5, 0.25), nx: 20, ny: 40 };
+        let lp = Vector3::new(0.125, 0.0625, 0.1);
+        for kind in [ShapeKind::Linear, ShapeKind::Ugimp] {
+            for k in 0..400 {
+                let x = Vector3::new(-1.0 + 0.0137 * k as f64, -2.0 + 0.0091 * k as f64, 2.0 + 0.0049 * k as f64);
+                let (n, node, s, g) = weights_3d(&g3, kind, &x, &lp);
+                let ss: f64 = s[..n].iter().sum();
+                let gs: Vector3 = g[..n].iter().sum();
+                assert!((ss - 1.0).abs() < 1e-14, "{kind:?} at {x:?}: ΣS = {ss}");
+                assert!(gs.norm() < 1e-12, "{kind:?} at {x:?}: ΣG = {gs:?}");
+                // Summed over z, the 3D weights are the 2D ones (tensor product).
+                let w2 = weights(&g2, kind, &Vector::new(x.x, x.y), &Vector::new(lp.x, lp.y));
+                for j in 0..w2.n {
+                    let (ix, iy) = g2.node_ij(w2.node[j] as usize);
+                    let col: f64 = (0..n).filter(|&m| {
+                        let [a, b, _] = g3.node_ijk(node[m] as usize);
+                        a == ix && b == iy
+                    }).map(|m| s[m]).sum();
+                    assert!((col - w2.s[j]).abs() < 1e-14);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gradient_matches_finite_difference_3d() {
+        let g3 = Grid3 { origin: Vector3::new(0.0, 0.0, 0.0), h: Vector3::new(0.5, 0.25, 0.4), n: [20, 40, 10] };
+        let lp = Vector3::new(0.125, 0.0625, 0.1);
+        let x = Vector3::new(3.3311, 2.1093, 1.777);
+        for kind in [ShapeKind::Linear, ShapeKind::Ugimp] {
+            let (n, node, _, g) = weights_3d(&g3, kind, &x, &lp);
+            let e = 1e-7;
+            for k in 0..n {
+                let val = |p: Vector3| {
+                    let (nn, nd, ss, _) = weights_3d(&g3, kind, &p, &lp);
+                    (0..nn).find(|&j| nd[j] == node[k]).map(|j| ss[j]).unwrap_or(0.0)
+                };
+                for c in 0..3 {
+                    let mut d = Vector3::zeros();
+                    d[c] = e;
+                    let fd = (val(x + d) - val(x - d)) / (2.0 * e);
+                    assert!((fd - g[k][c]).abs() < 1e-6, "{kind:?} node {k} comp {c}: {fd} vs {}", g[k][c]);
+                }
             }
         }
     }

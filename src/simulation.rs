@@ -2,14 +2,45 @@
 //! cracks — and the time loop around [`crate::step`].
 
 use crate::check::CheckError;
-use crate::crack::{Crack, CrackMethod};
-use crate::dim::Vector;
+use crate::crack::CrackMethod;
+use crate::dim::{GridGeometry, Space, SymOps, Vector, VectorOps, D2};
 use crate::exact;
-use crate::grid::{Grid, Nodes};
+use crate::grid::Nodes;
 use crate::material::{Constitutive, LinearElastic};
+
 use crate::particles::{Particles, NO_LOAD};
-use crate::shape::{ShapeKind, MAX_NODES};
+use crate::shape::ShapeKind;
 use serde::{Deserialize, Serialize};
+use std::fmt::Debug;
+
+/// A dimension as the time step sees it: [`Space`] (vectors, tensors, grid, shape
+/// functions) and its crack machinery — line crossing, contact, crack motion and growth
+/// in 2D (polylines, [`crate::crack`]); triangulated crack surfaces in 3D are the next
+/// stage (issue 15), so a 3D scene has no cracks yet. The step calls these once per step
+/// and only in scenes with cracks; the per-particle and per-node loops inside them are
+/// each dimension's own.
+pub trait Dimension: Space {
+    /// One crack of this dimension.
+    type Crack: Clone + Debug + Send + Sync;
+    /// Crack growth state (001 §2.3).
+    type Growth: Clone + Debug + Send + Sync;
+    /// Task 1 with cracks: velocity field of every particle–node pair (line crossing).
+    fn task1_cracks(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
+    /// Task 1 with cracks, after the gathers: nodal normals, field counts.
+    fn finish_crack_nodes(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
+    /// Contact on the momenta of Task 1 / Task 6c (Nairn 2003 eqs. 13–19).
+    fn contact_momenta(sim: &mut Simulation<Self>);
+    /// Contact on the momenta updated in Task 4, forces back-computed.
+    fn contact_updated_momenta(sim: &mut Simulation<Self>);
+    /// Task 7: move the cracks in the centre-of-mass velocity field.
+    fn task7_move_cracks(sim: &mut Simulation<Self>);
+    /// Crack propagation at the end of a step (only when the scene lets cracks grow).
+    fn grow_cracks(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
+    /// Checked mode: no particle crossed a crack.
+    fn check_crack_sides(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
+    /// The exact state of the cracks as 64-bit words (for [`crate::fingerprint`]).
+    fn crack_state_bits(cracks: &[Self::Crack]) -> Vec<u64>;
+}
 
 /// The four ways to order the stress update within a step (Nairn 2003 §2.3 and appendix).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -64,13 +95,13 @@ pub struct Options {
 /// A load on a set of particles: the same force on each, ramped linearly from zero over
 /// `ramp` (applied in full at t = 0 when `ramp` is 0).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Load {
-    pub force_per_particle: Vector,
+pub struct Load<V = Vector> {
+    pub force_per_particle: V,
     pub ramp: f64,
 }
 
-impl Load {
-    pub fn at(&self, t: f64) -> Vector {
+impl<V: VectorOps> Load<V> {
+    pub fn at(&self, t: f64) -> V {
         if self.ramp > 0.0 && t < self.ramp {
             self.force_per_particle * (t / self.ramp)
         } else {
@@ -79,21 +110,21 @@ impl Load {
     }
 }
 
-/// Velocity boundary conditions resolved onto nodes: bit 0 fixes x, bit 1 fixes y.
+/// Velocity boundary conditions resolved onto nodes: bit c fixes component c (x, y, z).
 #[derive(Clone, Debug, Default)]
-pub struct NodeBcs {
+pub struct NodeBcs<V = Vector> {
     pub mask: Vec<u8>,
-    pub vel: Vec<Vector>,
+    pub vel: Vec<V>,
     /// Nodes with any condition, ascending.
     pub nodes: Vec<u32>,
 }
 
-impl NodeBcs {
+impl<V: VectorOps> NodeBcs<V> {
     pub fn new(num_nodes: usize) -> Self {
-        NodeBcs { mask: vec![0; num_nodes], vel: vec![Vector::zeros(); num_nodes], nodes: Vec::new() }
+        NodeBcs { mask: vec![0; num_nodes], vel: vec![V::zeros(); num_nodes], nodes: Vec::new() }
     }
 
-    /// Fix component `c` (0 = x, 1 = y) of node `i` to velocity `v`.
+    /// Fix component `c` (0 = x, 1 = y, 2 = z) of node `i` to velocity `v`.
     pub fn fix(&mut self, i: usize, c: usize, v: f64) {
         if self.mask[i] == 0 {
             self.nodes.push(i as u32);
@@ -130,14 +161,14 @@ impl Energies {
 }
 
 /// Per-particle/node pair data of the current step, laid out flat with stride
-/// [`MAX_NODES`] per particle, and the node → pair incidence (CSR) that turns every
-/// particle-to-grid sum into a gather over a node's pairs.
+/// [`Space::MAX_NODES`] per particle (9 in 2D, 27 in 3D), and the node → pair incidence
+/// (CSR) that turns every particle-to-grid sum into a gather over a node's pairs.
 #[derive(Clone, Debug, Default)]
-pub struct Pairs {
+pub struct Pairs<S: Space = D2> {
     pub count: Vec<u8>,
     pub node: Vec<u32>,
     pub s: Vec<f64>,
-    pub g: Vec<Vector>,
+    pub g: Vec<S::Vector>,
     /// Velocity field ν(p,i) ∈ {0,1,2} (eq. 2); all 0 without cracks.
     pub field: Vec<u8>,
     /// CSR over nodes: pairs of node i are `items[start[i]..start[i+1]]` (pair index p·MAX_NODES + k).
@@ -147,16 +178,17 @@ pub struct Pairs {
     pub fill: Vec<u32>,
 }
 
-impl Pairs {
+impl<S: Space> Pairs<S> {
     pub fn with_capacity(np: usize, nn: usize) -> Self {
+        let stride = S::MAX_NODES;
         Pairs {
             count: vec![0; np],
-            node: vec![0; np * MAX_NODES],
-            s: vec![0.0; np * MAX_NODES],
-            g: vec![Vector::zeros(); np * MAX_NODES],
-            field: vec![0; np * MAX_NODES],
+            node: vec![0; np * stride],
+            s: vec![0.0; np * stride],
+            g: vec![S::Vector::zeros(); np * stride],
+            field: vec![0; np * stride],
             start: vec![0; nn + 1],
-            items: Vec::with_capacity(np * MAX_NODES),
+            items: Vec::with_capacity(np * stride),
             fill: Vec::with_capacity(nn),
         }
     }
@@ -170,35 +202,36 @@ impl Pairs {
     /// Pair indices of particle `p`.
     #[inline]
     pub fn of_particle(&self, p: usize) -> std::ops::Range<usize> {
-        let base = p * MAX_NODES;
+        let base = p * S::MAX_NODES;
         base..base + self.count[p] as usize
     }
 }
 
-/// One MPM analysis: everything the time step reads and writes.
+/// One MPM analysis: everything the time step reads and writes. Generic over the
+/// dimension (`Simulation` alone is 2D; `Simulation<D3>` is 3D).
 #[derive(Clone, Debug)]
-pub struct Simulation {
-    pub grid: Grid,
-    pub particles: Particles,
+pub struct Simulation<S: Dimension = D2> {
+    pub grid: S::Grid,
+    pub particles: Particles<S>,
     pub materials: Vec<LinearElastic>,
     /// Body force (acceleration) per body.
-    pub body_force: Vec<Vector>,
-    /// Thickness per body (2D), so particle areas can be recovered for contact volumes.
+    pub body_force: Vec<S::Vector>,
+    /// Thickness per body (2D; 1 in 3D), so particle areas can be recovered for contact volumes.
     pub thickness: Vec<f64>,
-    pub loads: Vec<Load>,
-    pub bcs: NodeBcs,
-    pub cracks: Vec<Crack>,
+    pub loads: Vec<Load<S::Vector>>,
+    pub bcs: NodeBcs<S::Vector>,
+    pub cracks: Vec<S::Crack>,
     pub options: Options,
-    pub nodes: Nodes,
-    pub pairs: Pairs,
+    pub nodes: Nodes<S::Vector>,
+    pub pairs: Pairs<S>,
     /// Buffers of the parallel gathers, kept across steps.
-    pub scratch: crate::step::Scratch,
+    pub scratch: crate::step::Scratch<S>,
     pub time: f64,
     pub step_count: u64,
     /// Accumulated external work and damping (kinetic and strain are computed on demand).
     pub work: Energies,
     /// Total particle momentum at the start of the current step (checked mode).
-    pub(crate) momentum_ref: Vector,
+    pub(crate) momentum_ref: S::Vector,
     /// Whether momentum must be conserved: no loads, body forces, boundary conditions or damping.
     pub(crate) momentum_conserving: bool,
     /// Total energy scale at t = 0 for the instability check.
@@ -207,35 +240,49 @@ pub struct Simulation {
     /// index id·ncracks + c with the particle's id (checked mode, cracks only).
     pub(crate) crack_side: Vec<i8>,
     /// Crack growth (001 §2.3), when a scene lets a crack grow; None otherwise.
-    pub growth: Option<crate::fracture::growth::Growth>,
+    pub growth: Option<S::Growth>,
+}
+
+/// Largest stable time step estimate: the smallest cell dimension over the fastest
+/// dilatational wave speed c_d = √((λ+2μ)/ρ) (plane strain/stress λ in 2D, the 3D λ in 3D).
+pub fn cfl_time_step<V, G: GridGeometry<V>>(grid: &G, materials: &[LinearElastic]) -> f64 {
+    let c = materials.iter().map(|m| m.wave_speed()).fold(0.0, f64::max);
+    grid.min_h() / c
+}
+
+impl Simulation {
+    /// [`cfl_time_step`] of a 2D grid.
+    pub fn cfl_dt(grid: &crate::grid::Grid, materials: &[LinearElastic]) -> f64 {
+        cfl_time_step(grid, materials)
+    }
 }
 
 /// A verification case records the fingerprint of every simulation it ran
 /// ([`crate::fingerprint`]); nothing happens outside a case.
-impl Drop for Simulation {
+impl<S: Dimension> Drop for Simulation<S> {
     fn drop(&mut self) {
         crate::fingerprint::on_drop(self);
     }
 }
 
-impl Simulation {
+impl<S: Dimension> Simulation<S> {
     /// Assemble a simulation; `dt` and everything else come resolved from the scene.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        grid: Grid,
-        particles: Particles,
+        grid: S::Grid,
+        particles: Particles<S>,
         materials: Vec<LinearElastic>,
-        body_force: Vec<Vector>,
+        body_force: Vec<S::Vector>,
         thickness: Vec<f64>,
-        loads: Vec<Load>,
-        bcs: NodeBcs,
-        cracks: Vec<Crack>,
+        loads: Vec<Load<S::Vector>>,
+        bcs: NodeBcs<S::Vector>,
+        cracks: Vec<S::Crack>,
         options: Options,
     ) -> Self {
         let nn = grid.num_nodes();
         let np = particles.len();
         let momentum_conserving = loads.is_empty()
-            && body_force.iter().all(|b| *b == Vector::zeros())
+            && body_force.iter().all(|b| *b == S::Vector::zeros())
             && bcs.is_empty()
             && options.damping == 0.0;
         let nodes = Nodes::new(nn, !cracks.is_empty());
@@ -255,7 +302,7 @@ impl Simulation {
             time: 0.0,
             step_count: 0,
             work: Energies::default(),
-            momentum_ref: Vector::zeros(),
+            momentum_ref: S::Vector::zeros(),
             momentum_conserving,
             energy_scale: 0.0,
             crack_side: Vec::new(),
@@ -265,7 +312,7 @@ impl Simulation {
         sim.energy_scale = e.kinetic + e.strain;
         if sim.has_cracks() && sim.options.checked {
             // Record every particle's side of every crack before the first step.
-            let _ = sim.check_crack_sides();
+            let _ = S::check_crack_sides(&mut sim);
         }
         sim
     }
@@ -274,16 +321,11 @@ impl Simulation {
         !self.cracks.is_empty()
     }
 
-    /// Largest stable time step estimate: cell size over the fastest dilatational wave.
-    pub fn cfl_dt(grid: &Grid, materials: &[LinearElastic]) -> f64 {
-        let c = materials.iter().map(|m| m.wave_speed()).fold(0.0, f64::max);
-        grid.min_h() / c
-    }
 
     /// Total particle momentum, summed exactly.
-    pub fn total_momentum(&self) -> Vector {
+    pub fn total_momentum(&self) -> S::Vector {
         let p = &self.particles;
-        Vector::new(exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].x)), exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].y)))
+        S::Vector::from_fn(|c| exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i][c])))
     }
 
     /// Kinetic and strain energy now, with the accumulated external work and damping.
@@ -291,10 +333,8 @@ impl Simulation {
     pub fn energies(&self) -> Energies {
         let p = &self.particles;
         let kinetic = exact::sum_fast((0..p.len()).map(|i| 0.5 * p.mass[i] * p.v[i].norm_squared()));
-        let strain = exact::sum_fast((0..p.len()).map(|i| {
-            let m = &self.materials[p.material[i] as usize];
-            p.vol0[i] * m.energy_density(&p.strain[i], &p.stress[i])
-        }));
+        // ½ σ:ε per unit undeformed volume (the linear-elastic energy density).
+        let strain = exact::sum_fast((0..p.len()).map(|i| p.vol0[i] * (0.5 * p.stress[i].ddot(&p.strain[i]))));
         Energies { kinetic, strain, ..self.work }
     }
 
@@ -306,14 +346,14 @@ impl Simulation {
         let p = &mut self.particles;
         for i in 0..p.len() {
             let l = p.load[i];
-            p.force[i] = if l == NO_LOAD { Vector::zeros() } else { self.loads[l as usize].at(t) };
+            p.force[i] = if l == NO_LOAD { S::Vector::zeros() } else { self.loads[l as usize].at(t) };
         }
     }
 
     /// Advance until `end_time`, calling `observe` after every step.
     pub fn run_until<F>(&mut self, end_time: f64, mut observe: F) -> Result<(), CheckError>
     where
-        F: FnMut(&Simulation),
+        F: FnMut(&Simulation<S>),
     {
         // Stop within half a step of the end time so round-off in t does not add a step.
         while self.time + 0.5 * self.options.dt < end_time {

@@ -22,15 +22,18 @@
 //! * invariant checks run only in checked mode; energies only at history rows;
 //! * nothing allocates once the buffers have grown to the scene (checked or not, any
 //!   thread count; `tests/no_alloc.rs`).
+//!
+//! The step is generic over the dimension `S` ([`Dimension`]): the same tasks, sums and
+//! checks in 2D and 3D, monomorphised per dimension; the crack tasks are the dimension's
+//! own ([`Dimension::task1_cracks`] and the rest).
 
 use crate::check::{CheckError, MASS_TOL, MOMENTUM_TOL, PARTITION_TOL};
-use crate::dim::{Sym, Tensor, Vector};
-use crate::exact::{Accumulator, ExactSum, ExactSums, FastSum};
-use crate::grid::{Grid, MAX_FIELDS};
-use crate::material::Constitutive;
+use crate::dim::{GridGeometry, Space, SymOps, TensorOps, VectorOps};
+use crate::exact::{Exact, ExactSum, Fast, LaneSum, SumKind};
+use crate::grid::MAX_FIELDS;
 use crate::particles::NO_LOAD;
-use crate::shape::{self, ShapeKind, MAX_NODES};
-use crate::simulation::{DampingOn, Scheme, Simulation};
+use crate::shape::ShapeKind;
+use crate::simulation::{DampingOn, Dimension, Scheme, Simulation};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -55,7 +58,7 @@ macro_rules! simd {
     }};
 }
 
-impl Simulation {
+impl<S: Dimension> Simulation<S> {
     /// Advance one time step (Tasks 0–8).
     pub fn step(&mut self) -> Result<(), CheckError> {
         let dt = self.options.dt;
@@ -94,17 +97,19 @@ impl Simulation {
                 self.update_stresses(0.5 * dt);
             }
         }
-        self.task7_move_cracks();
+        if self.has_cracks() {
+            S::task7_move_cracks(self);
+        }
         // Task 8: all information is back on the particles.
         self.time += dt;
         // Crack propagation (001 §2.3.2), only in scenes that let a crack grow.
         if self.growth.is_some() {
-            self.grow_cracks().map_err(|error| CheckError::Growth { step: self.step_count, error })?;
+            S::grow_cracks(self)?;
         }
         if self.options.checked {
             self.check_after_step()?;
             if self.has_cracks() {
-                self.check_crack_sides()?;
+                S::check_crack_sides(self)?;
             }
         }
         Ok(())
@@ -124,22 +129,20 @@ impl Simulation {
         let pairs = &mut self.pairs;
         let first_bad = (
             pairs.count.par_iter_mut(),
-            pairs.node.par_chunks_mut(MAX_NODES),
-            pairs.s.par_chunks_mut(MAX_NODES),
-            pairs.g.par_chunks_mut(MAX_NODES),
+            pairs.node.par_chunks_mut(S::MAX_NODES),
+            pairs.s.par_chunks_mut(S::MAX_NODES),
+            pairs.g.par_chunks_mut(S::MAX_NODES),
         )
             .into_par_iter()
             .with_min_len(PARTICLE_CHUNK)
             .enumerate()
             .filter_map(|(i, (count, node, s, g))| {
-                if !inside_grid(grid, kind, &p.x[i], &p.lp[i]) {
+                if !inside_grid::<S>(grid, kind, &p.x[i], &p.lp[i]) {
                     return Some(i);
                 }
-                let (node, s, g): (&mut [u32; MAX_NODES], &mut [f64; MAX_NODES], &mut [Vector; MAX_NODES]) =
-                    (node.try_into().unwrap(), s.try_into().unwrap(), g.try_into().unwrap());
-                let n = simd!(avx, avx2::weights_into(grid, kind, &p.x[i], &p.lp[i], node, s, g), shape::weights_into(grid, kind, &p.x[i], &p.lp[i], node, s, g));
+                let n = simd!(avx, avx2::weights_into::<S>(grid, kind, &p.x[i], &p.lp[i], node, s, g), S::weights_into(grid, kind, &p.x[i], &p.lp[i], node, s, g));
                 *count = n as u8;
-                (checked && partition_of_unity_error(grid, &s[..n], &g[..n]).is_some()).then_some(i)
+                (checked && partition_of_unity_error::<S>(grid, &s[..n], &g[..n]).is_some()).then_some(i)
             })
             .min();
         match first_bad {
@@ -154,23 +157,14 @@ impl Simulation {
     fn task0_error(&self, i: usize) -> CheckError {
         let (grid, p, kind, step) = (&self.grid, &self.particles, self.options.shape, self.step_count);
         let x = p.x[i];
-        if !inside_grid(grid, kind, &x, &p.lp[i]) {
-            let (lo, hi) = (grid.origin, grid.max_corner());
-            return CheckError::OutsideGrid {
-                step,
-                particle: i,
-                id: p.id[i],
-                x: x.x,
-                y: x.y,
-                xmin: lo.x,
-                xmax: hi.x,
-                ymin: lo.y,
-                ymax: hi.y,
-            };
+        if !inside_grid::<S>(grid, kind, &x, &p.lp[i]) {
+            let (lo, hi) = (grid.origin(), grid.max_corner());
+            use crate::check::components;
+            return CheckError::OutsideGrid { step, particle: i, id: p.id[i], x: components(&x), lo: components(&lo), hi: components(&hi) };
         }
-        let w = shape::weights(grid, kind, &x, &p.lp[i]);
-        let (sum_s, gx, gy) = partition_of_unity_error(grid, &w.s[..w.n], &w.g[..w.n]).expect("task 0 reported this particle");
-        CheckError::PartitionOfUnity { step, particle: i, id: p.id[i], sum_s, gx, gy }
+        let k = self.pairs.of_particle(i);
+        let (sum_s, g) = partition_of_unity_error::<S>(grid, &self.pairs.s[k.clone()], &self.pairs.g[k]).expect("task 0 reported this particle");
+        CheckError::PartitionOfUnity { step, particle: i, id: p.id[i], sum_s, g }
     }
 
     /// Task 1: velocity field of every particle/node pair (line crossing, cracks only),
@@ -180,7 +174,7 @@ impl Simulation {
     /// computed in parallel over the active nodes, then stored in node order.
     fn task1_extrapolate(&mut self) -> Result<(), CheckError> {
         if self.has_cracks() {
-            self.task1_cracks()?;
+            S::task1_cracks(self)?;
         }
         self.build_node_incidence();
 
@@ -194,9 +188,8 @@ impl Simulation {
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match (with_cracks, this.is_split(node)) {
-                (false, _) => fast_or_exact(|| simd!(avx, avx2::node_mass::<false, false>(this, node), this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node)), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
-                (true, false) => fast_or_exact(|| simd!(avx, avx2::node_mass::<false, false>(this, node), this.node_mass::<FastSum<3>, FastSum<1>, false, false>(node)), || this.node_mass::<ExactSums<3>, ExactSums<1>, false, false>(node)),
-                (true, true) => fast_or_exact(|| simd!(avx, avx2::node_mass::<true, true>(this, node), this.node_mass::<FastSum<3>, FastSum<1>, true, true>(node)), || this.node_mass::<ExactSums<3>, ExactSums<1>, true, true>(node)),
+                (false, _) | (true, false) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, false, false>(this, node), this.node_mass::<Fast, false, false>(node)), || this.node_mass::<Exact, false, false>(node)),
+                (true, true) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, true, true>(this, node), this.node_mass::<Fast, true, true>(node)), || this.node_mass::<Exact, true, true>(node)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -213,7 +206,7 @@ impl Simulation {
         }
         self.scratch.mass = sums;
         if with_cracks {
-            self.finish_crack_nodes()?;
+            S::finish_crack_nodes(self)?;
         }
         if self.options.checked {
             self.check_nodal_masses()?;
@@ -243,8 +236,9 @@ impl Simulation {
         let scratch = &mut self.scratch;
         scratch.chunk_counts.resize_with(chunks, Vec::new);
         let (count, node) = (&pairs.count, &pairs.node);
+        let stride = S::MAX_NODES;
         let chunk_pairs = |c: usize| {
-            (c * per_chunk..((c + 1) * per_chunk).min(np)).flat_map(move |i| (i * MAX_NODES..i * MAX_NODES + count[i] as usize).map(move |k| (k, node[k] as usize)))
+            (c * per_chunk..((c + 1) * per_chunk).min(np)).flat_map(move |i| (i * stride..i * stride + count[i] as usize).map(move |k| (k, node[k] as usize)))
         };
         // Pairs per node, per chunk.
         scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, counts)| {
@@ -290,7 +284,7 @@ impl Simulation {
     fn task2_boundary_conditions(&mut self) {
         self.apply_momentum_bcs();
         if self.has_cracks() {
-            self.apply_contact_to_momenta();
+            S::contact_momenta(self);
         }
     }
 
@@ -304,7 +298,7 @@ impl Simulation {
                 if self.nodes.present[i] & (1 << f) == 0 {
                     continue;
                 }
-                for c in 0..2 {
+                for c in 0..S::DIM {
                     if mask & (1 << c) != 0 {
                         fa.mom[i][c] = fa.mass[i] * v[c];
                     }
@@ -337,8 +331,8 @@ impl Simulation {
         let this = &*self;
         let avx = crate::simd::enabled();
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<false>(this, i), this.velocity_gradient::<FastSum<4>, false>(i)), || this.velocity_gradient::<ExactSums<4>, false>(i)),
-            true => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<true>(this, i), this.velocity_gradient::<FastSum<4>, true>(i)), || this.velocity_gradient::<ExactSums<4>, true>(i)),
+            false => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<S, false>(this, i), this.velocity_gradient::<Fast, false>(i)), || this.velocity_gradient::<Exact, false>(i)),
+            true => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<S, true>(this, i), this.velocity_gradient::<Fast, true>(i)), || this.velocity_gradient::<Exact, true>(i)),
         };
         // Velocity gradients first (reading the grid), then the particle updates.
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(grad_v).collect_into_vec(&mut grads);
@@ -348,9 +342,9 @@ impl Simulation {
             .into_par_iter()
             .with_min_len(PARTICLE_CHUNK)
             .for_each(|(strain, stress, grad_u, &material, grad_v)| {
-                let dl = grad_v * dt_star;
-                let de = Sym::sym_part(&dl);
-                materials[material as usize].update(&de, strain, stress);
+                let dl = *grad_v * dt_star;
+                let de = S::Sym::sym_part(&dl);
+                S::hooke(&materials[material as usize], &de, strain, stress);
                 *grad_u += dl;
             });
         self.scratch.grad_v = grads;
@@ -362,7 +356,7 @@ impl Simulation {
     fn task3_forces(&mut self) {
         let kappa = self.options.damping;
         let nf = self.nodes.fields.len();
-        let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
+        let has_body = self.body_force.iter().any(|b| *b != S::Vector::zeros());
         let has_ext = !self.loads.is_empty() || has_body;
         let mut sums = std::mem::take(&mut self.scratch.force);
         let this = &*self;
@@ -372,8 +366,8 @@ impl Simulation {
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match this.is_split(node) {
-                false => fast_or_exact(|| simd!(avx, avx2::node_forces::<false>(this, node, has_ext, has_body), this.node_forces::<FastSum<2>, false>(node, has_ext, has_body)), || this.node_forces::<ExactSums<2>, false>(node, has_ext, has_body)),
-                true => fast_or_exact(|| simd!(avx, avx2::node_forces::<true>(this, node, has_ext, has_body), this.node_forces::<FastSum<2>, true>(node, has_ext, has_body)), || this.node_forces::<ExactSums<2>, true>(node, has_ext, has_body)),
+                false => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, false>(this, node, has_ext, has_body), this.node_forces::<Fast, false>(node, has_ext, has_body)), || this.node_forces::<Exact, false>(node, has_ext, has_body)),
+                true => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, true>(this, node, has_ext, has_body), this.node_forces::<Fast, true>(node, has_ext, has_body)), || this.node_forces::<Exact, true>(node, has_ext, has_body)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -395,7 +389,7 @@ impl Simulation {
             let i = node as usize;
             let mask = self.bcs.mask[i];
             for fa in nodes.fields.iter_mut() {
-                for c in 0..2 {
+                for c in 0..S::DIM {
                     if mask & (1 << c) != 0 {
                         fa.ftot[i][c] = 0.0;
                     }
@@ -416,7 +410,7 @@ impl Simulation {
     fn task4_update_momenta(&mut self) -> Result<(), CheckError> {
         let dt = self.options.dt;
         let check_momentum = self.options.checked && self.momentum_conserving;
-        let before = if check_momentum { self.nodal_momentum_total() } else { Vector::zeros() };
+        let before = if check_momentum { self.nodal_momentum_total() } else { S::Vector::zeros() };
         let nodes = &mut self.nodes;
         for &node in &nodes.active {
             let i = node as usize;
@@ -427,24 +421,16 @@ impl Simulation {
             }
         }
         if self.has_cracks() {
-            self.apply_contact_to_updated_momenta();
+            S::contact_updated_momenta(self);
         }
         if check_momentum {
             let after = self.nodal_momentum_total();
             let scale = self.force_scale() * dt + self.nodal_momentum_scale();
             let tol = MOMENTUM_TOL * scale.max(f64::MIN_POSITIVE);
             // Non-finite momenta are named by the finiteness checks, which point at the culprit.
-            let (a, b) = (after.x + after.y, before.x + before.y);
-            if a.is_finite() && b.is_finite() && (after - before).norm() > tol {
-                return Err(CheckError::Momentum {
-                    step: self.step_count,
-                    stage: "task 4 (nodal momentum update)",
-                    bx: before.x,
-                    by: before.y,
-                    ax: after.x,
-                    ay: after.y,
-                    tol,
-                });
+            if after.is_finite() && before.is_finite() && (after - before).norm() > tol {
+                use crate::check::components;
+                return Err(CheckError::Momentum { step: self.step_count, stage: "task 4 (nodal momentum update)", before: components(&before), after: components(&after), tol });
             }
         }
         Ok(())
@@ -476,15 +462,15 @@ impl Simulation {
         let this = &*self;
         let avx = crate::simd::enabled();
         let increments = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => fast_or_exact(|| simd!(avx, avx2::particle_increments::<false>(this, i), this.particle_increments::<FastSum<4>, false>(i)), || this.particle_increments::<ExactSums<4>, false>(i)),
-            true => fast_or_exact(|| simd!(avx, avx2::particle_increments::<true>(this, i), this.particle_increments::<FastSum<4>, true>(i)), || this.particle_increments::<ExactSums<4>, true>(i)),
+            false => fast_or_exact(|| simd!(avx, avx2::particle_increments::<S, false>(this, i), this.particle_increments::<Fast, false>(i)), || this.particle_increments::<Exact, false>(i)),
+            true => fast_or_exact(|| simd!(avx, avx2::particle_increments::<S, true>(this, i), this.particle_increments::<Fast, true>(i)), || this.particle_increments::<Exact, true>(i)),
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
         // Work of the external loads, summed exactly over the particles with a load or a
         // body force: the others' terms are ±0, which change the exact sum only in its
         // sign when it is exactly zero, so that case is summed over all particles.
-        let has_ext = !self.loads.is_empty() || self.body_force.iter().any(|b| *b != Vector::zeros());
+        let has_ext = !self.loads.is_empty() || self.body_force.iter().any(|b| *b != S::Vector::zeros());
         if has_ext {
             let body_force = &self.body_force;
             let work = |i: usize| {
@@ -507,13 +493,13 @@ impl Simulation {
             let (mass, v) = (&p.mass, &p.v);
             self.work.damping += crate::exact::sum_fast((0..p.len()).map(|i| kappa * dt * mass[i] * v[i].dot(&(v[i] - incs[i].0))));
             (p.x.par_iter_mut(), p.v.par_iter_mut(), incs.par_iter()).into_par_iter().with_min_len(PARTICLE_CHUNK).for_each(|(x, v, (vel, acc))| {
-                *x += vel * dt;
-                *v += acc * dt - (*v - vel) * (kappa * dt);
+                *x += *vel * dt;
+                *v += *acc * dt - (*v - *vel) * (kappa * dt);
             });
         } else {
             (p.x.par_iter_mut(), p.v.par_iter_mut(), incs.par_iter()).into_par_iter().with_min_len(PARTICLE_CHUNK).for_each(|(x, v, (vel, acc))| {
-                *x += vel * dt;
-                *v += acc * dt;
+                *x += *vel * dt;
+                *v += *acc * dt;
             });
         }
         self.scratch.increments = incs;
@@ -532,8 +518,8 @@ impl Simulation {
             .par_iter()
             .with_min_len(NODE_CHUNK)
             .map(|&node| match this.is_split(node) {
-                false => fast_or_exact(|| simd!(avx, avx2::node_momentum::<false>(this, node), this.node_momentum::<FastSum<2>, false>(node)), || this.node_momentum::<ExactSums<2>, false>(node)),
-                true => fast_or_exact(|| simd!(avx, avx2::node_momentum::<true>(this, node), this.node_momentum::<FastSum<2>, true>(node)), || this.node_momentum::<ExactSums<2>, true>(node)),
+                false => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, false>(this, node), this.node_momentum::<Fast, false>(node)), || this.node_momentum::<Exact, false>(node)),
+                true => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, true>(this, node), this.node_momentum::<Fast, true>(node)), || this.node_momentum::<Exact, true>(node)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -548,43 +534,43 @@ impl Simulation {
         self.scratch.momentum = sums;
         self.apply_momentum_bcs();
         if self.has_cracks() {
-            self.apply_contact_to_momenta();
+            S::contact_momenta(self);
         }
     }
 
     /// List the particles with a load or a body force (for the external work of Task 5).
     fn collect_forced_particles(&mut self) {
-        let has_body = self.body_force.iter().any(|b| *b != Vector::zeros());
+        let has_body = self.body_force.iter().any(|b| *b != S::Vector::zeros());
         let (p, body_force, forced) = (&self.particles, &self.body_force, &mut self.scratch.forced);
         forced.clear();
         if self.loads.is_empty() && !has_body {
             return;
         }
-        forced.extend((0..p.len()).filter(|&i| p.load[i] != NO_LOAD || (has_body && body_force[p.body[i] as usize] != Vector::zeros())).map(|i| i as u32));
+        forced.extend((0..p.len()).filter(|&i| p.load[i] != NO_LOAD || (has_body && body_force[p.body[i] as usize] != S::Vector::zeros())).map(|i| i as u32));
     }
 
     /// Exact total of the nodal momenta over all fields.
-    fn nodal_momentum_total(&self) -> Vector {
-        let mut sx = ExactSum::new();
-        let mut sy = ExactSum::new();
+    fn nodal_momentum_total(&self) -> S::Vector {
+        let mut sums = [ExactSum::new(), ExactSum::new(), ExactSum::new()];
         for (f, i) in self.nodes.present_fields() {
             let p = self.nodes.fields[f].mom[i];
-            sx.add(p.x);
-            sy.add(p.y);
+            for (c, sum) in sums.iter_mut().enumerate().take(S::DIM) {
+                sum.add(p[c]);
+            }
         }
-        Vector::new(sx.value(), sy.value())
+        S::Vector::from_fn(|c| sums[c].value())
     }
 
     /// Σ |p| over nodes: the scale against which a change of total momentum is judged.
     fn nodal_momentum_scale(&self) -> f64 {
         let n = &self.nodes;
-        crate::exact::sum_fast(n.present_fields().map(|(f, i)| n.fields[f].mom[i].abs().sum()))
+        crate::exact::sum_fast(n.present_fields().map(|(f, i)| n.fields[f].mom[i].abs_sum()))
     }
 
     /// Σ |f_int| over nodes: the scale against which Σ f_int = 0 is judged.
     fn force_scale(&self) -> f64 {
         let n = &self.nodes;
-        crate::exact::sum_fast(n.present_fields().map(|(f, i)| n.fields[f].fint[i].abs().sum()))
+        crate::exact::sum_fast(n.present_fields().map(|(f, i)| n.fields[f].fint[i].abs_sum()))
     }
 
     /// Checked mode after Task 1: positive masses where used; grid mass equals particle mass.
@@ -597,7 +583,7 @@ impl Simulation {
             if !(m > 0.0) || !m.is_finite() {
                 return Err(CheckError::NodalMass { step, node: i, field: f, mass: m });
             }
-            if !fa.mom[i].x.is_finite() || !fa.mom[i].y.is_finite() {
+            if !fa.mom[i].is_finite() {
                 return Err(CheckError::NonFiniteNode {
                     step,
                     node: i,
@@ -623,10 +609,10 @@ impl Simulation {
         let p = &self.particles;
         for i in 0..p.len() {
             let bad = |what: &'static str, value: String| CheckError::NonFiniteParticle { step, particle: i, id: p.id[i], what, value };
-            if !(p.x[i].x.is_finite() && p.x[i].y.is_finite()) {
+            if !p.x[i].is_finite() {
                 return Err(bad("position", crate::check::fmt_vec(&p.x[i])));
             }
-            if !(p.v[i].x.is_finite() && p.v[i].y.is_finite()) {
+            if !p.v[i].is_finite() {
                 return Err(bad("velocity", crate::check::fmt_vec(&p.v[i])));
             }
             if !p.stress[i].is_finite() {
@@ -636,18 +622,11 @@ impl Simulation {
         if self.momentum_conserving {
             let now = self.total_momentum();
             let before = self.momentum_ref;
-            let scale = crate::exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].abs().sum()));
+            let scale = crate::exact::sum_fast((0..p.len()).map(|i| p.mass[i] * p.v[i].abs_sum()));
             let tol = MOMENTUM_TOL * scale.max(f64::MIN_POSITIVE);
             if (now - before).norm() > tol {
-                return Err(CheckError::Momentum {
-                    step,
-                    stage: "particle update (Task 5)",
-                    bx: before.x,
-                    by: before.y,
-                    ax: now.x,
-                    ay: now.y,
-                    tol,
-                });
+                use crate::check::components;
+                return Err(CheckError::Momentum { step, stage: "particle update (Task 5)", before: components(&before), after: components(&now), tol });
             }
         }
         let e = self.energies();
@@ -660,12 +639,13 @@ impl Simulation {
 }
 
 /// The sums of the step, one node or one particle at a time, written once for any
-/// [`Accumulator`]: run with [`FastSum`], and with [`ExactSums`] when the fast sum cannot
-/// certify a result (see [`fast_or_exact`]). `CRACKS = false` compiles the crack-free
-/// variant, where every pair is in field 0 (no field look-ups, no volume sums); it also
-/// serves the nodes that no crack splits in a cracked scene. The quantities summed
-/// together per pair are the lanes of one accumulator.
-impl Simulation {
+/// [`SumKind`] and any dimension: run with [`Fast`] sums, and with [`Exact`] ones when the
+/// fast sum cannot certify a result (see [`fast_or_exact`]). `CRACKS = false` compiles the
+/// crack-free variant, where every pair is in field 0 (no field look-ups, no volume sums);
+/// it also serves the nodes that no crack splits in a cracked scene. The quantities summed
+/// together per pair are the lanes of one accumulator (1 + DIM for mass and momentum, DIM
+/// for forces, DIM² for the velocity gradient, 2·DIM for the particle increments).
+impl<S: Dimension> Simulation<S> {
     /// May the pairs of `node` be in fields other than 0? Only if the scene has cracks and
     /// the line-crossing test of Task 1 found a crack between the node and one of its
     /// particles (which records the crack in `nodes.crack`); otherwise all are in field 0.
@@ -675,89 +655,104 @@ impl Simulation {
     }
 
     /// May the pairs of particle `i` be in fields other than 0? Not if Task 1's crossing
-    /// tests gave every one of them field 0 (`scratch.split`, written by
-    /// [`Simulation::assign_velocity_fields`] each step; when it is not there — node
-    /// visibility, or a copy of the simulation that has not run Task 1 — assume they may).
+    /// tests gave every one of them field 0 (`scratch.split`, written by the dimension's
+    /// field assignment each step; when it is not there — node visibility, or a copy of
+    /// the simulation that has not run Task 1 — assume they may).
     #[inline]
     fn is_split_particle(&self, i: usize) -> bool {
         self.scratch.split.get(i).copied().unwrap_or(true)
     }
 
     /// Task 1 at one node: mass and momentum per field (eq. 26), and the nodal area per
-    /// unit thickness (eq. 27) for contact.
+    /// unit thickness (eq. 27; the volume in 3D) for contact.
     ///
     /// `FIELDS = false` for a node no crack splits (every pair in field 0); `VOLUME` at the
     /// nodes a crack splits, the only ones where contact reads the nodal volume (NaN
     /// elsewhere: not computed).
     #[inline(always)]
-    fn node_mass<A3: Accumulator<3>, A1: Accumulator<1>, const FIELDS: bool, const VOLUME: bool>(&self, node: u32) -> Option<NodeMass> {
+    fn node_mass<K: SumKind, const FIELDS: bool, const VOLUME: bool>(&self, node: u32) -> Option<NodeMass<S::Vector>> {
         let (p, pairs) = (&self.particles, &self.pairs);
-        let mut acc: [A3; MAX_FIELDS] = Default::default();
-        let mut vol = A1::default();
+        let mut acc: [K::Of<S::MassLanes>; MAX_FIELDS] = Default::default();
+        let mut vol = K::Of::<[f64; 1]>::default();
         let mut present = 0u8;
         for &item in pairs.of_node(node as usize) {
             let item = item as usize;
-            let pp = item / MAX_NODES;
+            let pp = item / S::MAX_NODES;
             let f = if FIELDS { pairs.field[item] as usize } else { 0 };
             let s = pairs.s[item];
             let m = p.mass[pp];
             present |= 1 << f;
-            acc[f].add([m * s, m * p.v[pp].x * s, m * p.v[pp].y * s]);
+            let mut lanes = S::MassLanes::default();
+            lanes[0] = m * s;
+            for c in 0..S::DIM {
+                lanes[c + 1] = m * p.v[pp][c] * s;
+            }
+            acc[f].add_lanes(lanes);
             if VOLUME {
                 // Nodal area (eq. 27 per unit thickness), compared with the cell area.
                 // The particle's current area, eq. 25 per unit thickness (only the pairs of
                 // split nodes need it).
                 let area = p.volume(pp) / self.thickness[p.body[pp] as usize];
-                vol.add([area * s]);
+                vol.add_lanes([area * s]);
             }
         }
         let mut out = NodeMass { present, ..Default::default() };
         for (f, a) in acc.iter().enumerate().take(self.nodes.fields.len()) {
-            let [m, px, py] = a.certified()?;
-            out.mass[f] = m;
-            out.mom[f] = Vector::new(px, py);
+            let l = a.certified_lanes()?;
+            out.mass[f] = l[0];
+            out.mom[f] = S::Vector::from_fn(|c| l[c + 1]);
         }
-        out.volume = if VOLUME { vol.certified()?[0] } else { f64::NAN };
+        out.volume = if VOLUME { vol.certified_lanes()?[0] } else { f64::NAN };
         Some(out)
     }
 
     /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
     #[inline(always)]
-    fn node_forces<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce> {
+    fn node_forces<K: SumKind, const CRACKS: bool>(&self, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
         let (p, pairs) = (&self.particles, &self.pairs);
-        let mut int: [A; MAX_FIELDS] = Default::default();
-        let mut ext: [A; MAX_FIELDS] = Default::default();
+        let mut int: [K::Of<S::VecLanes>; MAX_FIELDS] = Default::default();
+        let mut ext: [K::Of<S::VecLanes>; MAX_FIELDS] = Default::default();
         let mut skipped_zeros = [false; MAX_FIELDS];
         for &item in pairs.of_node(node as usize) {
             let item = item as usize;
-            let pp = item / MAX_NODES;
+            let pp = item / S::MAX_NODES;
             let f = if CRACKS { pairs.field[item] as usize } else { 0 };
             // f_int = −V σ·G (the paper's −m σ̄·G with specific stress σ̄ = σ/ρ).
             let t = p.stress[pp].dot_vec(&pairs.g[item]);
             let v0 = p.vol0[pp];
-            int[f].add([-(v0 * t.x), -(v0 * t.y)]);
+            let mut lanes = S::VecLanes::default();
+            for c in 0..S::DIM {
+                lanes[c] = -(v0 * t[c]);
+            }
+            int[f].add_lanes(lanes);
             if has_ext {
                 let force = p.force[pp];
-                if !has_body && force.x.to_bits() == 0 && force.y.to_bits() == 0 && p.mass[pp].is_finite() {
+                if !has_body && (0..S::DIM).all(|c| force[c].to_bits() == 0) && p.mass[pp].is_finite() {
                     // An unloaded particle: f_p = +0 + (±0)·m = (+0, +0) exactly, and its
                     // terms +0·S = +0 only decide the sign of an all-zero sum (below).
                     skipped_zeros[f] = true;
                 } else {
                     let s = pairs.s[item];
                     let fp = force + self.body_force[p.body[pp] as usize] * p.mass[pp];
-                    ext[f].add([fp.x * s, fp.y * s]);
+                    let mut lanes = S::VecLanes::default();
+                    for c in 0..S::DIM {
+                        lanes[c] = fp[c] * s;
+                    }
+                    ext[f].add_lanes(lanes);
                 }
             }
         }
         let mut out = NodeForce::default();
         for f in 0..self.nodes.fields.len() {
             if self.nodes.present[node as usize] & (1 << f) != 0 {
-                out.fint[f] = Vector::from(int[f].certified()?);
-                out.fext[f] = Vector::from(ext[f].certified()?);
-                if skipped_zeros[f] {
+                let (i, e) = (int[f].certified_lanes()?, ext[f].certified_lanes()?);
+                out.fint[f] = S::Vector::from_fn(|c| i[c]);
+                out.fext[f] = if skipped_zeros[f] {
                     // With the +0 terms added, a −0 sum would have been +0 (x + 0 = x otherwise).
-                    out.fext[f] = out.fext[f].map(|x| x + 0.0);
-                }
+                    S::Vector::from_fn(|c| e[c] + 0.0)
+                } else {
+                    S::Vector::from_fn(|c| e[c])
+                };
             }
         }
         Some(out)
@@ -765,21 +760,26 @@ impl Simulation {
 
     /// Task 6c at one node: momentum per field from the new particle velocities (eq. 31).
     #[inline(always)]
-    fn node_momentum<A: Accumulator<2>, const CRACKS: bool>(&self, node: u32) -> Option<[Vector; MAX_FIELDS]> {
+    fn node_momentum<K: SumKind, const CRACKS: bool>(&self, node: u32) -> Option<[S::Vector; MAX_FIELDS]> {
         let (p, pairs) = (&self.particles, &self.pairs);
-        let mut acc: [A; MAX_FIELDS] = Default::default();
+        let mut acc: [K::Of<S::VecLanes>; MAX_FIELDS] = Default::default();
         for &item in pairs.of_node(node as usize) {
             let item = item as usize;
-            let pp = item / MAX_NODES;
+            let pp = item / S::MAX_NODES;
             let f = if CRACKS { pairs.field[item] as usize } else { 0 };
             let s = pairs.s[item];
             let m = p.mass[pp];
-            acc[f].add([m * p.v[pp].x * s, m * p.v[pp].y * s]);
+            let mut lanes = S::VecLanes::default();
+            for c in 0..S::DIM {
+                lanes[c] = m * p.v[pp][c] * s;
+            }
+            acc[f].add_lanes(lanes);
         }
-        let mut out = [Vector::zeros(); MAX_FIELDS];
+        let mut out = [S::Vector::zeros(); MAX_FIELDS];
         for (f, mom) in out.iter_mut().enumerate().take(self.nodes.fields.len()) {
             if self.nodes.present[node as usize] & (1 << f) != 0 {
-                *mom = Vector::from(acc[f].certified()?);
+                let l = acc[f].certified_lanes()?;
+                *mom = S::Vector::from_fn(|c| l[c]);
             }
         }
         Some(out)
@@ -788,33 +788,44 @@ impl Simulation {
     /// Velocity gradient at particle `i` (eq. 36): Σ v_i ⊗ G_ip over its pairs, each in
     /// the pair's own velocity field.
     #[inline(always)]
-    fn velocity_gradient<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<Tensor> {
+    fn velocity_gradient<K: SumKind, const CRACKS: bool>(&self, i: usize) -> Option<S::Tensor> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
-        let mut l = A::default();
+        let mut l = K::Of::<S::TensorLanes>::default();
         let k = pairs.of_particle(i);
         for ((&f, &node), g) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.g[k]) {
             let f = if CRACKS { f as usize } else { 0 };
             let v = nodes.fields[f].vel[node as usize];
-            l.add([v.x * g.x, v.x * g.y, v.y * g.x, v.y * g.y]);
+            let mut lanes = S::TensorLanes::default();
+            for a in 0..S::DIM {
+                for b in 0..S::DIM {
+                    lanes[a * S::DIM + b] = v[a] * g[b];
+                }
+            }
+            l.add_lanes(lanes);
         }
-        let [xx, xy, yx, yy] = l.certified()?;
-        Some(Tensor::new(xx, xy, yx, yy))
+        let t = l.certified_lanes()?;
+        Some(S::Tensor::from_fn(|a, b| t[a * S::DIM + b]))
     }
 
     /// Task 5 at particle `i` (eq. 30): (Σ S v_i, Σ S a_i) over its pairs, the velocity
     /// that moves the particle and the acceleration that updates its velocity.
     #[inline(always)]
-    fn particle_increments<A: Accumulator<4>, const CRACKS: bool>(&self, i: usize) -> Option<(Vector, Vector)> {
+    fn particle_increments<K: SumKind, const CRACKS: bool>(&self, i: usize) -> Option<(S::Vector, S::Vector)> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
-        let mut s = A::default();
+        let mut s = K::Of::<S::IncLanes>::default();
         let k = pairs.of_particle(i);
         for ((&f, &n), &w) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.s[k]) {
             let fa = &nodes.fields[if CRACKS { f as usize } else { 0 }];
             let n = n as usize;
-            s.add([w * fa.vel[n].x, w * fa.vel[n].y, w * fa.acc[n].x, w * fa.acc[n].y]);
+            let mut lanes = S::IncLanes::default();
+            for c in 0..S::DIM {
+                lanes[c] = w * fa.vel[n][c];
+                lanes[S::DIM + c] = w * fa.acc[n][c];
+            }
+            s.add_lanes(lanes);
         }
-        let [vx, vy, ax, ay] = s.certified()?;
-        Some((Vector::new(vx, vy), Vector::new(ax, ay)))
+        let l = s.certified_lanes()?;
+        Some((S::Vector::from_fn(|c| l[c]), S::Vector::from_fn(|c| l[S::DIM + c])))
     }
 }
 
@@ -834,42 +845,33 @@ mod avx2 {
     use super::*;
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_mass<const FIELDS: bool, const VOLUME: bool>(s: &Simulation, node: u32) -> Option<NodeMass> {
-        s.node_mass::<FastSum<3>, FastSum<1>, FIELDS, VOLUME>(node)
+    pub(super) fn node_mass<S: Dimension, const FIELDS: bool, const VOLUME: bool>(s: &Simulation<S>, node: u32) -> Option<NodeMass<S::Vector>> {
+        s.node_mass::<Fast, FIELDS, VOLUME>(node)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_forces<const CRACKS: bool>(s: &Simulation, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce> {
-        s.node_forces::<FastSum<2>, CRACKS>(node, has_ext, has_body)
+    pub(super) fn node_forces<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
+        s.node_forces::<Fast, CRACKS>(node, has_ext, has_body)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_momentum<const CRACKS: bool>(s: &Simulation, node: u32) -> Option<[Vector; MAX_FIELDS]> {
-        s.node_momentum::<FastSum<2>, CRACKS>(node)
+    pub(super) fn node_momentum<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, node: u32) -> Option<[S::Vector; MAX_FIELDS]> {
+        s.node_momentum::<Fast, CRACKS>(node)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn velocity_gradient<const CRACKS: bool>(s: &Simulation, i: usize) -> Option<Tensor> {
-        s.velocity_gradient::<FastSum<4>, CRACKS>(i)
+    pub(super) fn velocity_gradient<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<S::Tensor> {
+        s.velocity_gradient::<Fast, CRACKS>(i)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn particle_increments<const CRACKS: bool>(s: &Simulation, i: usize) -> Option<(Vector, Vector)> {
-        s.particle_increments::<FastSum<4>, CRACKS>(i)
+    pub(super) fn particle_increments<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<(S::Vector, S::Vector)> {
+        s.particle_increments::<Fast, CRACKS>(i)
     }
 
     #[target_feature(enable = "avx2")]
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn weights_into(
-        grid: &Grid,
-        kind: ShapeKind,
-        x: &Vector,
-        lp: &Vector,
-        node: &mut [u32; MAX_NODES],
-        s: &mut [f64; MAX_NODES],
-        g: &mut [Vector; MAX_NODES],
-    ) -> usize {
-        shape::weights_into(grid, kind, x, lp, node, s, g)
+    pub(super) fn weights_into<S: Space>(grid: &S::Grid, kind: ShapeKind, x: &S::Vector, lp: &S::Vector, node: &mut [u32], s: &mut [f64], g: &mut [S::Vector]) -> usize {
+        S::weights_into(grid, kind, x, lp, node, s, g)
     }
 }
 
@@ -880,58 +882,70 @@ const NODE_CHUNK: usize = 64;
 
 /// Is the particle (with its uGIMP domain) inside the grid?
 #[inline]
-fn inside_grid(grid: &Grid, kind: ShapeKind, x: &Vector, lp: &Vector) -> bool {
+fn inside_grid<S: Space>(grid: &S::Grid, kind: ShapeKind, x: &S::Vector, lp: &S::Vector) -> bool {
     let margin = match kind {
-        ShapeKind::Linear => Vector::zeros(),
+        ShapeKind::Linear => S::Vector::zeros(),
         ShapeKind::Ugimp => *lp,
     };
-    let (lo, hi) = (grid.origin, grid.max_corner());
-    x.x - margin.x >= lo.x && x.x + margin.x <= hi.x && x.y - margin.y >= lo.y && x.y + margin.y <= hi.y
+    let (lo, hi) = (grid.origin(), grid.max_corner());
+    (0..S::DIM).all(|c| x[c] - margin[c] >= lo[c] && x[c] + margin[c] <= hi[c])
 }
 
-/// Checked mode: (ΣS, ΣGx, ΣGy) if the weights break the partition of unity, else None.
+/// Checked mode: (ΣS, ΣG) if the weights break the partition of unity, else None.
 #[inline]
-fn partition_of_unity_error(grid: &Grid, s: &[f64], g: &[Vector]) -> Option<(f64, f64, f64)> {
+fn partition_of_unity_error<S: Space>(grid: &S::Grid, s: &[f64], g: &[S::Vector]) -> Option<(f64, Vec<f64>)> {
     let sum_s = crate::exact::sum(s);
-    let gx = crate::exact::sum_iter(g.iter().map(|g| g.x));
-    let gy = crate::exact::sum_iter(g.iter().map(|g| g.y));
     let gtol = PARTITION_TOL / grid.min_h();
-    ((sum_s - 1.0).abs() > PARTITION_TOL || gx.abs() > gtol || gy.abs() > gtol).then_some((sum_s, gx, gy))
+    let gsum = |c: usize| crate::exact::sum_iter(g.iter().map(|g| g[c]));
+    let bad = (sum_s - 1.0).abs() > PARTITION_TOL || (0..S::DIM).any(|c| gsum(c).abs() > gtol);
+    bad.then(|| (sum_s, (0..S::DIM).map(gsum).collect()))
 }
 
 /// One active node's Task 1 sums, per field.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct NodeMass {
+#[derive(Clone, Copy, Debug)]
+pub struct NodeMass<V> {
     pub present: u8,
     pub mass: [f64; MAX_FIELDS],
-    pub mom: [Vector; MAX_FIELDS],
+    pub mom: [V; MAX_FIELDS],
     pub volume: f64,
 }
 
+impl<V: VectorOps> Default for NodeMass<V> {
+    fn default() -> Self {
+        NodeMass { present: 0, mass: [0.0; MAX_FIELDS], mom: [V::zeros(); MAX_FIELDS], volume: 0.0 }
+    }
+}
+
 /// One active node's Task 3 sums, per field.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct NodeForce {
-    pub fint: [Vector; MAX_FIELDS],
-    pub fext: [Vector; MAX_FIELDS],
+#[derive(Clone, Copy, Debug)]
+pub struct NodeForce<V> {
+    pub fint: [V; MAX_FIELDS],
+    pub fext: [V; MAX_FIELDS],
+}
+
+impl<V: VectorOps> Default for NodeForce<V> {
+    fn default() -> Self {
+        NodeForce { fint: [V::zeros(); MAX_FIELDS], fext: [V::zeros(); MAX_FIELDS] }
+    }
 }
 
 /// Per-step buffers of the parallel gathers (one entry per active node), kept across
 /// steps so the time step does not allocate.
-#[derive(Debug, Default)]
-pub struct Scratch {
-    pub mass: Vec<NodeMass>,
-    pub force: Vec<NodeForce>,
-    pub momentum: Vec<[Vector; MAX_FIELDS]>,
-    pub grad_v: Vec<Tensor>,
-    pub increments: Vec<(Vector, Vector)>,
+#[derive(Debug)]
+pub struct Scratch<S: Space> {
+    pub mass: Vec<NodeMass<S::Vector>>,
+    pub force: Vec<NodeForce<S::Vector>>,
+    pub momentum: Vec<[S::Vector; MAX_FIELDS]>,
+    pub grad_v: Vec<S::Tensor>,
+    pub increments: Vec<(S::Vector, S::Vector)>,
     /// CSR build: pairs per node of each particle chunk, then the chunks' write cursors.
     pub chunk_counts: Vec<Vec<u32>>,
     /// CSR build: the pair slots, written by the chunks in parallel.
     pub slots: Vec<AtomicU32>,
     /// Particles with a load or a body force this step, ascending.
     pub forced: Vec<u32>,
-    /// Task 1 with cracks: each crack's segment index, the crack each split pair crossed,
-    /// and per particle whether any of its pairs is split.
+    /// Task 1 with cracks (2D): each crack's segment index, the crack each split pair
+    /// crossed, and per particle whether any of its pairs is split.
     pub crack_index: Vec<crate::crack::geometry::SegmentIndex>,
     pub pair_crack: Vec<u16>,
     pub split: Vec<bool>,
@@ -939,16 +953,34 @@ pub struct Scratch {
 
 /// Every buffer is refilled before it is read within a step, so a copy of a simulation
 /// starts with empty ones (and the atomics need no copying).
-impl Clone for Scratch {
+impl<S: Space> Clone for Scratch<S> {
     fn clone(&self) -> Self {
         Scratch::default()
+    }
+}
+
+impl<S: Space> Default for Scratch<S> {
+    fn default() -> Self {
+        Scratch {
+            mass: Vec::new(),
+            force: Vec::new(),
+            momentum: Vec::new(),
+            grad_v: Vec::new(),
+            increments: Vec::new(),
+            chunk_counts: Vec::new(),
+            slots: Vec::new(),
+            forced: Vec::new(),
+            crack_index: Vec::new(),
+            pair_crack: Vec::new(),
+            split: Vec::new(),
+        }
     }
 }
 
 /// Single stages of the step, for `benches/step.rs` (not a stable API: the state after
 /// calling them alone is not that of a real step).
 #[doc(hidden)]
-impl Simulation {
+impl<S: Dimension> Simulation<S> {
     /// Particle to grid: Task 0 (shape functions) and Task 1 (crack fields, CSR, gathers).
     pub fn bench_particle_to_grid(&mut self) -> Result<(), CheckError> {
         self.task0_shape_functions()?;
@@ -967,7 +999,11 @@ impl Simulation {
         self.task5_update_particles();
         self.update_stresses(0.5 * self.options.dt);
     }
+}
 
+/// Crack stages of the 2D step, for `benches/step.rs`.
+#[doc(hidden)]
+impl Simulation {
     /// The line-crossing field assignment of Task 1 alone (cracks only).
     pub fn bench_crack_fields(&mut self) -> Result<(), CheckError> {
         self.assign_velocity_fields()

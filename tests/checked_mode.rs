@@ -109,7 +109,7 @@ fn particle_outside_the_grid_is_named() {
     match sim.step() {
         Err(e @ CheckError::OutsideGrid { .. }) => {
             let CheckError::OutsideGrid { step, particle, id: got, x, .. } = e.clone() else { unreachable!() };
-            assert_eq!((step, particle, got, x), (2, p, id, 1.2), "{e}");
+            assert_eq!((step, particle, got, x[0]), (2, p, id, 1.2), "{e}");
         }
         other => panic!("expected OutsideGrid, got {other:?}"),
     }

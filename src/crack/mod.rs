@@ -132,6 +132,76 @@ fn field_of(side: Side) -> u8 {
     }
 }
 
+/// The 2D crack machinery as the generic time step calls it (polylines; Nairn 2003).
+impl crate::simulation::Dimension for crate::dim::D2 {
+    type Crack = Crack;
+    type Growth = crate::fracture::growth::Growth;
+
+    fn task1_cracks(sim: &mut Simulation) -> Result<(), CheckError> {
+        sim.task1_cracks()
+    }
+    fn finish_crack_nodes(sim: &mut Simulation) -> Result<(), CheckError> {
+        sim.finish_crack_nodes()
+    }
+    fn contact_momenta(sim: &mut Simulation) {
+        sim.apply_contact_to_momenta()
+    }
+    fn contact_updated_momenta(sim: &mut Simulation) {
+        sim.apply_contact_to_updated_momenta()
+    }
+    fn task7_move_cracks(sim: &mut Simulation) {
+        sim.task7_move_cracks()
+    }
+    fn grow_cracks(sim: &mut Simulation) -> Result<(), CheckError> {
+        sim.grow_cracks().map_err(|error| CheckError::Growth { step: sim.step_count, error })
+    }
+    fn check_crack_sides(sim: &mut Simulation) -> Result<(), CheckError> {
+        sim.check_crack_sides()
+    }
+    /// Per crack: the number of points, then every point, upper and lower surface point.
+    fn crack_state_bits(cracks: &[Crack]) -> Vec<u64> {
+        let mut words = Vec::new();
+        for c in cracks {
+            words.push(c.points.len() as u64);
+            for pts in [&c.points, &c.above, &c.below] {
+                words.extend(pts.iter().flat_map(|q| [q.x.to_bits(), q.y.to_bits()]));
+            }
+        }
+        words
+    }
+}
+
+/// A 3D crack: triangulated crack surfaces are the next stage (001 §2.1; issue 15).
+/// Until then a 3D scene has no cracks, so no value of this type exists.
+#[derive(Clone, Debug)]
+pub enum NoCrack3 {}
+
+/// 3D: no cracks yet (issue 15 adds triangulated crack surfaces); every hook is only
+/// called in a scene with cracks, which a 3D scene cannot build.
+impl crate::simulation::Dimension for crate::dim::D3 {
+    type Crack = NoCrack3;
+    type Growth = NoCrack3;
+
+    fn task1_cracks(_: &mut Simulation<crate::dim::D3>) -> Result<(), CheckError> {
+        Ok(())
+    }
+    fn finish_crack_nodes(_: &mut Simulation<crate::dim::D3>) -> Result<(), CheckError> {
+        Ok(())
+    }
+    fn contact_momenta(_: &mut Simulation<crate::dim::D3>) {}
+    fn contact_updated_momenta(_: &mut Simulation<crate::dim::D3>) {}
+    fn task7_move_cracks(_: &mut Simulation<crate::dim::D3>) {}
+    fn grow_cracks(_: &mut Simulation<crate::dim::D3>) -> Result<(), CheckError> {
+        Ok(())
+    }
+    fn check_crack_sides(_: &mut Simulation<crate::dim::D3>) -> Result<(), CheckError> {
+        Ok(())
+    }
+    fn crack_state_bits(_: &[NoCrack3]) -> Vec<u64> {
+        Vec::new()
+    }
+}
+
 impl Simulation {
     /// Task 1 with cracks, by the scene's [`CrackMethod`]: CRAMP's velocity fields
     /// ([`Simulation::assign_velocity_fields`]) or node visibility
