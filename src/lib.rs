@@ -17,7 +17,8 @@
 //! * [`simulation`] — the state of a run and its time loop.
 //! * [`fracture`] — J-integral, K, growth criteria.
 //! * [`fea`] — the static Q4 finite-element solver used for comparison.
-//! * [`scene`] — TOML scene input and validation.
+//! * [`scene`] — TOML scene input and validation (2D); [`scene3d`] — 3D scenes, and the
+//!   dimension of a scene file; [`stl`] — closed STL surfaces for 3D bodies.
 //! * [`output`] — history CSV, summary JSON, VTK snapshots.
 //! * [`report`] — plots and the report index.
 //! * [`verify`] — the verification cases, `cramp verify` and `cramp compare`.
@@ -36,8 +37,10 @@ pub mod output;
 pub mod particles;
 pub mod report;
 pub mod scene;
+pub mod scene3d;
 pub mod shape;
 pub mod simd;
 pub mod simulation;
 pub mod step;
+pub mod stl;
 pub mod verify;

@@ -3,6 +3,7 @@
 //! particle snapshots at the archive interval. Physics stays out of here: this module
 //! only reads a [`Simulation`].
 
+pub mod three_d;
 pub mod vtk;
 
 use crate::dim::Vector;
@@ -138,9 +139,11 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
     let mut fracture_error: Option<FractureError> = None;
     let mut next_hist = hist_dt;
     let mut archive_index = 0usize;
+    let mut archive_times: Vec<f64> = Vec::new();
     let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
     if let (Some(dir), Some(_)) = (&opts.out_dir, arch_dt) {
         write_snapshots(&sim, dir, archive_index)?;
+        archive_times.push(sim.time);
         archive_index += 1;
     }
     let start = Instant::now();
@@ -165,6 +168,7 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
                 if let Err(e) = write_snapshots(s, dir, archive_index) {
                     io_error.get_or_insert(e);
                 }
+                archive_times.push(s.time);
             }
             archive_index += 1;
             while next_arch <= s.time + half {
@@ -209,6 +213,10 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         if let Some(g) = &sim.growth {
             write_rows(&dir.join("growth.csv"), GrowthRecord::HEADER, g.records.iter().map(GrowthRecord::csv))?;
             write_crack_paths(&dir.join("crack_paths.csv"), &sim)?;
+        }
+        if !archive_times.is_empty() {
+            let files: Vec<(f64, String)> = archive_times.iter().enumerate().map(|(k, &t)| (t, format!("particles_{k:05}.vtk"))).collect();
+            write_pvd(&dir.join("particles.pvd"), &files)?;
         }
         let json = serde_json::to_string_pretty(&summary)?;
         std::fs::write(dir.join("summary.json"), json).with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
@@ -263,6 +271,22 @@ impl CrackGrowthSummary {
             })
             .collect()
     }
+}
+
+/// A ParaView collection (`.pvd`) listing snapshot files with their times, so ParaView
+/// opens a run's snapshots as one time series (2D and 3D).
+pub fn write_pvd(path: &Path, files: &[(f64, String)]) -> anyhow::Result<()> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?);
+    writeln!(f, "<?xml version=\"1.0\"?>")?;
+    writeln!(f, "<VTKFile type=\"Collection\" version=\"0.1\">")?;
+    writeln!(f, "  <Collection>")?;
+    for (t, name) in files {
+        writeln!(f, "    <DataSet timestep=\"{t:e}\" part=\"0\" file=\"{name}\"/>")?;
+    }
+    writeln!(f, "  </Collection>")?;
+    writeln!(f, "</VTKFile>")?;
+    f.flush()?;
+    Ok(())
 }
 
 /// Write history.csv.

@@ -39,7 +39,7 @@ use std::path::Path;
 
 use anyhow::{anyhow, bail, Context};
 
-use crate::dim::{Sym, Vector};
+use crate::dim::{Sym, Sym3, Vector, Vector3};
 
 /// The first line of every file: the legacy format version ParaView reads.
 const VTK_HEADER: &str = "# vtk DataFile Version 3.0";
@@ -61,6 +61,10 @@ pub enum PointData<'a> {
     /// One symmetric tensor per point (`TENSORS`, written as the full 3×3 matrix
     /// `[[xx, xy, 0], [xy, yy, 0], [0, 0, zz]]`).
     Tensor(&'a [Sym]),
+    /// One 3D vector per point (3D scenes).
+    Vector3(&'a [Vector3]),
+    /// One 3D symmetric tensor per point (3D scenes).
+    Tensor3(&'a [Sym3]),
 }
 
 impl PointData<'_> {
@@ -69,6 +73,8 @@ impl PointData<'_> {
             PointData::Scalar(v) => v.len(),
             PointData::Vector(v) => v.len(),
             PointData::Tensor(v) => v.len(),
+            PointData::Vector3(v) => v.len(),
+            PointData::Tensor3(v) => v.len(),
         }
     }
 
@@ -82,6 +88,10 @@ impl PointData<'_> {
                 .find_map(|(i, a)| first_bad(&[("x", a.x), ("y", a.y)]).map(|c| (i, c))),
             PointData::Tensor(v) => v.iter().enumerate().find_map(|(i, s)| {
                 first_bad(&[("xx", s.xx), ("yy", s.yy), ("zz", s.zz), ("xy", s.xy)]).map(|c| (i, c))
+            }),
+            PointData::Vector3(v) => v.iter().enumerate().find_map(|(i, a)| first_bad(&[("x", a.x), ("y", a.y), ("z", a.z)]).map(|c| (i, c))),
+            PointData::Tensor3(v) => v.iter().enumerate().find_map(|(i, s)| {
+                first_bad(&[("xx", s.xx), ("yy", s.yy), ("zz", s.zz), ("xy", s.xy), ("xz", s.xz), ("yz", s.yz)]).map(|c| (i, c))
             }),
         }
     }
@@ -137,6 +147,17 @@ pub fn write_points(
     positions: &[Vector],
     data: &[(&str, PointData)],
 ) -> io::Result<()> {
+    let xyz: Vec<[f64; 3]> = positions.iter().map(|p| [p.x, p.y, 0.0]).collect();
+    write_points_xyz(path, title, &xyz, data)
+}
+
+/// [`write_points`] for 3D positions (3D scenes).
+pub fn write_points_3d(path: impl AsRef<Path>, title: &str, positions: &[Vector3], data: &[(&str, PointData)]) -> io::Result<()> {
+    let xyz: Vec<[f64; 3]> = positions.iter().map(|p| [p.x, p.y, p.z]).collect();
+    write_points_xyz(path, title, &xyz, data)
+}
+
+fn write_points_xyz(path: impl AsRef<Path>, title: &str, positions: &[[f64; 3]], data: &[(&str, PointData)]) -> io::Result<()> {
     // 1. Validate everything before touching the file system.
     check_title(title)?;
     check_positions(positions)?;
@@ -193,6 +214,21 @@ pub fn write_points(
                     writeln!(w)?; // blank line between tensors, for the human reader
                 }
             }
+            PointData::Vector3(vectors) => {
+                writeln!(w, "VECTORS {name} double")?;
+                for v in vectors.iter() {
+                    writeln!(w, "{:e} {:e} {:e}", v.x, v.y, v.z)?;
+                }
+            }
+            PointData::Tensor3(tensors) => {
+                writeln!(w, "TENSORS {name} double")?;
+                for s in tensors.iter() {
+                    writeln!(w, "{:e} {:e} {:e}", s.xx, s.xy, s.xz)?;
+                    writeln!(w, "{:e} {:e} {:e}", s.xy, s.yy, s.yz)?;
+                    writeln!(w, "{:e} {:e} {:e}", s.xz, s.yz, s.zz)?;
+                    writeln!(w)?;
+                }
+            }
         }
     }
     w.flush()
@@ -214,7 +250,7 @@ pub fn write_polylines(
     if let Some(k) = lines.iter().position(|line| line.len() < 2) {
         return Err(invalid(format!("polyline {k} has fewer than 2 points")));
     }
-    let points: Vec<Vector> = lines.iter().flatten().copied().collect();
+    let points: Vec<[f64; 3]> = lines.iter().flatten().map(|p| [p.x, p.y, 0.0]).collect();
     check_positions(&points)?;
     check_names(cell_scalars.iter().map(|(name, _)| *name))?;
     for (name, values) in cell_scalars {
@@ -264,14 +300,14 @@ pub fn write_polylines(
 }
 
 /// The part shared by both writers: the four header lines and the POINTS block.
-fn write_header_and_points(w: &mut impl Write, title: &str, points: &[Vector]) -> io::Result<()> {
+fn write_header_and_points(w: &mut impl Write, title: &str, points: &[[f64; 3]]) -> io::Result<()> {
     writeln!(w, "{VTK_HEADER}")?;
     writeln!(w, "{title}")?;
     writeln!(w, "ASCII")?;
     writeln!(w, "DATASET POLYDATA")?;
     writeln!(w, "POINTS {} double", points.len())?;
     for p in points {
-        writeln!(w, "{:e} {:e} 0e0", p.x, p.y)?;
+        writeln!(w, "{:e} {:e} {:e}", p[0], p[1], p[2])?;
     }
     Ok(())
 }
@@ -301,11 +337,8 @@ fn check_title(title: &str) -> io::Result<()> {
     Ok(())
 }
 
-fn check_positions(points: &[Vector]) -> io::Result<()> {
-    match points
-        .iter()
-        .position(|p| !(p.x.is_finite() && p.y.is_finite()))
-    {
+fn check_positions(points: &[[f64; 3]]) -> io::Result<()> {
+    match points.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
         Some(i) => Err(invalid(format!("point {i} has a non-finite coordinate"))),
         None => Ok(()),
     }

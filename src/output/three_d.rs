@@ -1,0 +1,229 @@
+//! Outputs of a 3D run: `history.csv` (energies and the three momentum components at the
+//! history interval), `summary.json`, VTK particle snapshots with 3D positions, vectors and
+//! full symmetric tensors, and the ParaView collection `particles.pvd`.
+
+use super::vtk::{self, PointData};
+use super::{write_pvd, RunOptions};
+use crate::dim::{Vector3, D3};
+use crate::scene3d::Scene3;
+use crate::simulation::{Energies, Simulation};
+use anyhow::Context;
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+/// One row of a 3D history.csv.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HistoryRow3 {
+    pub time: f64,
+    pub kinetic: f64,
+    pub strain: f64,
+    pub external_work: f64,
+    pub damping: f64,
+    /// kinetic + strain + damping − external_work.
+    pub total: f64,
+    pub momentum_x: f64,
+    pub momentum_y: f64,
+    pub momentum_z: f64,
+}
+
+impl HistoryRow3 {
+    pub fn of(sim: &Simulation<D3>) -> Self {
+        let e: Energies = sim.energies();
+        let p = sim.total_momentum();
+        HistoryRow3 {
+            time: sim.time,
+            kinetic: e.kinetic,
+            strain: e.strain,
+            external_work: e.external_work,
+            damping: e.damping,
+            total: e.total(),
+            momentum_x: p.x,
+            momentum_y: p.y,
+            momentum_z: p.z,
+        }
+    }
+
+    pub const HEADER: &'static str = "time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,momentum_z";
+
+    pub fn csv(&self) -> String {
+        format!(
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+            self.time, self.kinetic, self.strain, self.external_work, self.damping, self.total, self.momentum_x, self.momentum_y, self.momentum_z
+        )
+    }
+}
+
+/// summary.json of a 3D run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Summary3 {
+    pub scene: Scene3,
+    pub dimension: usize,
+    pub steps: u64,
+    pub dt: f64,
+    pub end_time: f64,
+    pub particles: usize,
+    pub nodes: usize,
+    pub wall_time_s: f64,
+    /// Particles × steps / wall time of the time loop (outputs included).
+    pub particle_steps_per_second: f64,
+    pub threads: usize,
+    pub checked: bool,
+    /// Bytes per particle of the particle arrays and of the pair arrays (27 pairs).
+    pub bytes_per_particle: usize,
+    /// Bytes per grid node of the nodal arrays (one velocity field).
+    pub bytes_per_node: usize,
+    pub final_energies: HistoryRow3,
+}
+
+/// What a 3D run returns in memory.
+#[derive(Clone, Debug)]
+pub struct RunResult3 {
+    pub history: Vec<HistoryRow3>,
+    pub summary: Summary3,
+    pub sim: Simulation<D3>,
+}
+
+/// Memory of one particle: its state arrays and its stride of the pair arrays.
+pub fn bytes_per_particle_3d() -> usize {
+    let v = std::mem::size_of::<Vector3>();
+    let state = 5 * v // x, x0, v, lp, force
+        + 2 * std::mem::size_of::<crate::dim::Sym3>()
+        + std::mem::size_of::<crate::dim::Tensor3>()
+        + 2 * 8 // mass, vol0
+        + 4 + 3 * 2; // id, material, body, load
+    let pairs = 27 * (4 + 8 + v + 1 + 4) + 1; // node, s, g, field, CSR item; count
+    state + pairs
+}
+
+/// Memory of one grid node with one velocity field (mass, six vectors, present bit,
+/// CSR start).
+pub fn bytes_per_node_3d() -> usize {
+    8 + 6 * std::mem::size_of::<Vector3>() + 1 + 4 + 1 + std::mem::size_of::<Vector3>() // + BC mask and velocity
+}
+
+/// Build and run a 3D scene to its end time, recording history and writing outputs.
+pub fn run_scene_3d(scene: &Scene3, opts: &RunOptions) -> anyhow::Result<RunResult3> {
+    let mut sim = scene.build()?;
+    if let Some(c) = opts.checked {
+        sim.options.checked = c;
+    }
+    run_simulation_3d(scene, sim, opts)
+}
+
+/// Run an already built 3D simulation.
+pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOptions) -> anyhow::Result<RunResult3> {
+    if let Some(dir) = &opts.out_dir {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create output directory {}", dir.display()))?;
+    }
+    let end = scene.solver.end_time;
+    let dt = sim.options.dt;
+    let hist_dt = scene.history_interval();
+    let arch_dt = scene.output.archive_interval;
+    let total_steps = ((end / dt) - 0.5).ceil().max(0.0) as u64;
+    let bar = if opts.progress { indicatif::ProgressBar::new(total_steps) } else { indicatif::ProgressBar::hidden() };
+    let mut history = vec![HistoryRow3::of(&sim)];
+    let mut next_hist = hist_dt;
+    let mut snapshots: Vec<(f64, String)> = Vec::new();
+    let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
+    let mut io_error: Option<anyhow::Error> = None;
+    let mut archive = |s: &Simulation<D3>, snapshots: &mut Vec<(f64, String)>| {
+        if let Some(dir) = &opts.out_dir {
+            let name = format!("particles_{:05}.vtk", snapshots.len());
+            match write_snapshot_3d(s, &dir.join(&name)) {
+                Ok(()) => snapshots.push((s.time, name)),
+                Err(e) => {
+                    io_error.get_or_insert(e);
+                }
+            }
+        }
+    };
+    if arch_dt.is_some() {
+        archive(&sim, &mut snapshots);
+    }
+    let start = Instant::now();
+    let half = 0.5 * dt;
+    sim.run_until(end, |s| {
+        bar.inc(1);
+        if s.time + half >= next_hist {
+            history.push(HistoryRow3::of(s));
+            while next_hist <= s.time + half {
+                next_hist += hist_dt;
+            }
+        }
+        if s.time + half >= next_arch {
+            archive(s, &mut snapshots);
+            while next_arch <= s.time + half {
+                next_arch += arch_dt.unwrap_or(f64::INFINITY);
+            }
+        }
+    })
+    .map_err(|e| anyhow::anyhow!(e))?;
+    let wall = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    if let Some(e) = io_error {
+        return Err(e);
+    }
+    if history.last().map(|h| h.time) != Some(sim.time) {
+        history.push(HistoryRow3::of(&sim));
+    }
+    let summary = Summary3 {
+        scene: scene.clone(),
+        dimension: 3,
+        steps: sim.step_count,
+        dt,
+        end_time: sim.time,
+        particles: sim.particles.len(),
+        nodes: crate::dim::GridGeometry::num_nodes(&sim.grid),
+        wall_time_s: wall,
+        particle_steps_per_second: sim.particles.len() as f64 * sim.step_count as f64 / wall.max(1e-12),
+        threads: rayon::current_num_threads(),
+        checked: sim.options.checked,
+        bytes_per_particle: bytes_per_particle_3d(),
+        bytes_per_node: bytes_per_node_3d(),
+        final_energies: *history.last().expect("history has the initial row"),
+    };
+    if let Some(dir) = &opts.out_dir {
+        let path = dir.join("history.csv");
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&path).with_context(|| format!("cannot create {}", path.display()))?);
+        writeln!(f, "{}", HistoryRow3::HEADER)?;
+        for r in &history {
+            writeln!(f, "{}", r.csv())?;
+        }
+        f.flush()?;
+        if !snapshots.is_empty() {
+            write_pvd(&dir.join("particles.pvd"), &snapshots)?;
+        }
+        std::fs::write(dir.join("summary.json"), serde_json::to_string_pretty(&summary)?).with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
+    }
+    Ok(RunResult3 { history, summary, sim })
+}
+
+/// 3D particle snapshot in legacy VTK, particles sorted by id.
+pub fn write_snapshot_3d(sim: &Simulation<D3>, path: &Path) -> anyhow::Result<()> {
+    let p = &sim.particles;
+    let mut order: Vec<usize> = (0..p.len()).collect();
+    order.sort_by_key(|&i| p.id[i]);
+    let pos: Vec<Vector3> = order.iter().map(|&i| p.x[i]).collect();
+    let disp: Vec<Vector3> = order.iter().map(|&i| p.x[i] - p.x0[i]).collect();
+    let vel: Vec<Vector3> = order.iter().map(|&i| p.v[i]).collect();
+    let stress: Vec<_> = order.iter().map(|&i| p.stress[i]).collect();
+    let strain: Vec<_> = order.iter().map(|&i| p.strain[i]).collect();
+    let mat: Vec<f64> = order.iter().map(|&i| p.material[i] as f64).collect();
+    let id: Vec<f64> = order.iter().map(|&i| p.id[i] as f64).collect();
+    vtk::write_points_3d(
+        path,
+        &format!("cramp particles t={:e}", sim.time),
+        &pos,
+        &[
+            ("id", PointData::Scalar(&id)),
+            ("displacement", PointData::Vector3(&disp)),
+            ("velocity", PointData::Vector3(&vel)),
+            ("stress", PointData::Tensor3(&stress)),
+            ("strain", PointData::Tensor3(&strain)),
+            ("material", PointData::Scalar(&mat)),
+        ],
+    )
+    .with_context(|| format!("cannot write snapshot {}", path.display()))
+}

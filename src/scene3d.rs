@@ -1,0 +1,720 @@
+//! 3D scene files: the same TOML language as 2D ([`crate::scene`]) with three-component
+//! vectors, 3D bodies (box, sphere, cylinder, tube, extruded polygon, closed STL surface),
+//! 3D node and particle selections (box, plane, line), and no plane state. A scene is 3D
+//! when its `grid.cell` has three components ([`Dimension`] of a scene file, decided by
+//! [`detect_dimension`]); `cramp run`, `verify` and `compare` take either.
+//!
+//! Cracks in 3D (triangulated surfaces, 001 §2.1) are the next stage (issue 15): a 3D
+//! scene with `[[cracks]]` is refused with an error that says so.
+//!
+//! Every vector of a scene must have the scene's number of components: a 2-component
+//! vector in a 3D scene, or a 3-component one in a 2D scene, is an error naming the field
+//! ([`check_vector_lengths`]), so no component is ever silently dropped.
+
+use crate::dim::{Vector, Vector3, D3};
+use crate::grid::Grid3;
+use crate::material::LinearElastic;
+use crate::particles::{Particles, NO_LOAD};
+use crate::scene::{OutputSpec, SceneError, SolverSpec};
+
+use crate::simulation::{cfl_time_step, Load, NodeBcs, Options, Simulation};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+fn invalid(field: impl Into<String>, message: impl Into<String>) -> SceneError {
+    SceneError::Invalid { field: field.into(), message: message.into() }
+}
+
+/// A 3D scene.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Scene3 {
+    #[serde(default)]
+    pub title: String,
+    pub grid: GridSpec3,
+    pub solver: SolverSpec,
+    #[serde(default)]
+    pub output: OutputSpec,
+    pub materials: Vec<MaterialSpec3>,
+    pub bodies: Vec<BodySpec3>,
+    #[serde(default)]
+    pub boundary: Vec<BoundarySpec3>,
+    #[serde(default)]
+    pub loads: Vec<LoadSpec3>,
+    /// Refused until 3D cracks exist (issue 15); kept so the error can say so.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cracks: Option<toml::Value>,
+    /// The directory of the scene file, for relative STL paths (not a scene field).
+    #[serde(skip)]
+    pub base_dir: Option<PathBuf>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GridSpec3 {
+    /// Corner of least coordinates.
+    pub origin: [f64; 3],
+    /// Extent in x, y, z (a whole number of cells each).
+    pub size: [f64; 3],
+    /// Cell size in x, y, z.
+    pub cell: [f64; 3],
+}
+
+/// An isotropic linear elastic solid. There is no `state` in 3D.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec3 {
+    pub name: String,
+    #[serde(rename = "E")]
+    pub e: f64,
+    pub nu: f64,
+    pub rho: f64,
+    /// Refused with a clear error: plane stress / plane strain mean nothing in 3D.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state: Option<toml::Value>,
+}
+
+/// The solid a body fills (its particles are the lattice points inside it).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum Solid {
+    /// Axis-aligned box, inclusive.
+    Box { min: [f64; 3], max: [f64; 3] },
+    Sphere { center: [f64; 3], radius: f64 },
+    /// Circular cylinder from the centre of one end face to the other.
+    Cylinder { from: [f64; 3], to: [f64; 3], radius: f64 },
+    /// Hollow cylinder: inner_radius ≤ distance from the axis ≤ radius.
+    Tube { from: [f64; 3], to: [f64; 3], radius: f64, inner_radius: f64 },
+    /// A 2D polygon (in the plane of the two other axes, in the order y–z for axis x,
+    /// z–x for y, x–y for z) swept along `axis` from `from` to `to`.
+    Extrusion { points: Vec<[f64; 2]>, axis: Axis, from: f64, to: f64 },
+    /// A closed, consistently oriented triangulated surface (binary or ASCII STL).
+    Stl { file: String },
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SineVelocity3 {
+    pub amplitude: [f64; 3],
+    pub k: [f64; 3],
+    #[serde(default)]
+    pub origin: [f64; 3],
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec3 {
+    pub material: String,
+    pub shape: Solid,
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    pub velocity_sine: Option<SineVelocity3>,
+    #[serde(default)]
+    pub body_force: [f64; 3],
+}
+
+/// Grid nodes or particles to act on.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum Selection3 {
+    /// Axis-aligned box, inclusive (to round-off).
+    Box { min: [f64; 3], max: [f64; 3] },
+    /// Points within `tolerance` (default a quarter of the smallest cell) of the plane
+    /// through `point` with normal `normal`.
+    Plane { point: [f64; 3], normal: [f64; 3], tolerance: Option<f64> },
+    /// Points within a quarter cell of the segment.
+    Line { from: [f64; 3], to: [f64; 3] },
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySpec3 {
+    pub nodes: Selection3,
+    pub vx: Option<f64>,
+    pub vy: Option<f64>,
+    pub vz: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec3 {
+    pub particles: Selection3,
+    /// Total force, shared equally by the selected particles.
+    pub force: [f64; 3],
+    #[serde(default)]
+    pub ramp: f64,
+}
+
+fn v3(a: [f64; 3]) -> Vector3 {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+fn finite(field: &str, x: f64) -> Result<(), SceneError> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(invalid(field, format!("must be a finite number, got {x}")))
+    }
+}
+
+fn positive(field: &str, x: f64) -> Result<(), SceneError> {
+    finite(field, x)?;
+    if x > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(field, format!("must be positive, got {x}")))
+    }
+}
+
+fn finite3(field: &str, a: &[f64; 3]) -> Result<(), SceneError> {
+    for (c, x) in a.iter().enumerate() {
+        finite(&format!("{field}[{c}]"), *x)?;
+    }
+    Ok(())
+}
+
+/// The dimension of a scene file, from its `grid.cell` (or `grid.origin`).
+pub fn detect_dimension(value: &toml::Value) -> Result<usize, String> {
+    let grid = value.get("grid").ok_or("missing table [grid]")?;
+    for key in ["cell", "origin", "size"] {
+        if let Some(a) = grid.get(key).and_then(|v| v.as_array()) {
+            return match a.len() {
+                2 => Ok(2),
+                3 => Ok(3),
+                n => Err(format!("scene field `grid.{key}`: has {n} components; a scene is 2D (2 components) or 3D (3)")),
+            };
+        }
+    }
+    Err("scene field `grid.cell`: missing (it has 2 components in a 2D scene, 3 in a 3D one)".into())
+}
+
+/// Every array of numbers in the scene must have `dim` components, except the 2D
+/// points of a 3D extrusion's polygon; the error names the field. (Arrays of arrays —
+/// polygon and crack points — are checked element by element.)
+pub fn check_vector_lengths(value: &toml::Value, dim: usize) -> Result<(), SceneError> {
+    fn walk(v: &toml::Value, path: &str, dim: usize) -> Result<(), SceneError> {
+        match v {
+            toml::Value::Table(t) => {
+                for (k, x) in t {
+                    let p = if path.is_empty() { k.clone() } else { format!("{path}.{k}") };
+                    walk(x, &p, dim)?;
+                }
+                Ok(())
+            }
+            toml::Value::Array(a) if !a.is_empty() && a.iter().all(|x| x.is_integer() || x.is_float()) => {
+                // In 3D, extrusion polygons are 2D points (`...extrusion.points[i]`).
+                let want = if dim == 3 && path.contains(".extrusion.points[") { 2 } else { dim };
+                if a.len() != want {
+                    let what = if want == 2 && dim == 3 { "an extrusion's polygon points have 2 components".to_string() } else { format!("this is a {dim}D scene (grid.cell has {dim} components), so vectors take {dim}") };
+                    return Err(invalid(path, format!("has {} components; {what}", a.len())));
+                }
+                Ok(())
+            }
+            toml::Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    walk(x, &format!("{path}[{i}]"), dim)?;
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+    walk(value, "", dim)
+}
+
+impl Solid {
+    /// Is x inside (boundary included, decided in floating point as written here; a
+    /// lattice point exactly on a curved surface may fall either way by round-off).
+    pub fn contains(&self, x: &Vector3, mesh: Option<&crate::stl::ClosedMesh>) -> bool {
+        match self {
+            Solid::Box { min, max } => (0..3).all(|c| x[c] >= min[c] && x[c] <= max[c]),
+            Solid::Sphere { center, radius } => (x - v3(*center)).norm_squared() <= radius * radius,
+            Solid::Cylinder { from, to, radius } => radial(x, from, to).is_some_and(|r2| r2 <= radius * radius),
+            Solid::Tube { from, to, radius, inner_radius } => radial(x, from, to).is_some_and(|r2| r2 <= radius * radius && r2 >= inner_radius * inner_radius),
+            Solid::Extrusion { points, axis, from, to } => {
+                let a = axis.index();
+                let (lo, hi) = if from <= to { (*from, *to) } else { (*to, *from) };
+                if x[a] < lo || x[a] > hi {
+                    return false;
+                }
+                let (u, w) = ((a + 1) % 3, (a + 2) % 3);
+                let polygon = crate::scene::ShapeSpec::Polygon { points: points.clone() };
+                polygon.contains(&Vector::new(x[u], x[w]))
+            }
+            Solid::Stl { .. } => mesh.is_some_and(|m| m.contains(x)),
+        }
+    }
+
+    /// Axis-aligned bounding box.
+    fn bounds(&self, mesh: Option<&crate::stl::ClosedMesh>) -> (Vector3, Vector3) {
+        match self {
+            Solid::Box { min, max } => (v3(*min), v3(*max)),
+            Solid::Sphere { center, radius } => (v3(*center) - Vector3::repeat(*radius), v3(*center) + Vector3::repeat(*radius)),
+            Solid::Cylinder { from, to, radius } | Solid::Tube { from, to, radius, .. } => {
+                // The end discs lie within radius of their centres in every direction.
+                let (a, b) = (v3(*from), v3(*to));
+                (a.inf(&b) - Vector3::repeat(*radius), a.sup(&b) + Vector3::repeat(*radius))
+            }
+            Solid::Extrusion { points, axis, from, to } => {
+                let a = axis.index();
+                let (u, w) = ((a + 1) % 3, (a + 2) % 3);
+                let mut lo = Vector3::repeat(f64::INFINITY);
+                let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+                for p in points {
+                    lo[u] = lo[u].min(p[0]);
+                    hi[u] = hi[u].max(p[0]);
+                    lo[w] = lo[w].min(p[1]);
+                    hi[w] = hi[w].max(p[1]);
+                }
+                lo[a] = from.min(*to);
+                hi[a] = from.max(*to);
+                (lo, hi)
+            }
+            Solid::Stl { .. } => mesh.map(|m| m.bounds()).unwrap_or((Vector3::zeros(), Vector3::zeros())),
+        }
+    }
+}
+
+/// Squared distance of x from the axis from→to, if its projection lies between the ends.
+fn radial(x: &Vector3, from: &[f64; 3], to: &[f64; 3]) -> Option<f64> {
+    let (a, b) = (v3(*from), v3(*to));
+    let d = b - a;
+    let t = (x - a).dot(&d);
+    let l2 = d.norm_squared();
+    if t < 0.0 || t > l2 {
+        return None;
+    }
+    Some(((x - a) - d * (t / l2)).norm_squared())
+}
+
+impl Selection3 {
+    fn tolerance(&self, h: f64) -> f64 {
+        match self {
+            Selection3::Box { .. } => 1e-9 * h,
+            Selection3::Plane { tolerance, .. } => tolerance.unwrap_or(0.25 * h),
+            Selection3::Line { .. } => 0.25 * h,
+        }
+    }
+
+    fn contains(&self, x: &Vector3, tol: f64) -> bool {
+        match self {
+            Selection3::Box { min, max } => (0..3).all(|c| x[c] >= min[c] - tol && x[c] <= max[c] + tol),
+            Selection3::Plane { point, normal, .. } => {
+                let n = v3(*normal);
+                ((x - v3(*point)).dot(&n) / n.norm()).abs() <= tol
+            }
+            Selection3::Line { from, to } => {
+                let (a, b) = (v3(*from), v3(*to));
+                let d = b - a;
+                let l2 = d.norm_squared();
+                let t = if l2 > 0.0 { ((x - a).dot(&d) / l2).clamp(0.0, 1.0) } else { 0.0 };
+                (x - (a + d * t)).norm() <= tol
+            }
+        }
+    }
+
+    fn validate(&self, field: &str) -> Result<(), SceneError> {
+        match self {
+            Selection3::Box { min, max } => {
+                finite3(&format!("{field}.box.min"), min)?;
+                finite3(&format!("{field}.box.max"), max)?;
+                if (0..3).any(|c| max[c] < min[c]) {
+                    return Err(invalid(format!("{field}.box"), format!("max {max:?} is below min {min:?} in some direction")));
+                }
+            }
+            Selection3::Plane { point, normal, tolerance } => {
+                finite3(&format!("{field}.plane.point"), point)?;
+                finite3(&format!("{field}.plane.normal"), normal)?;
+                if v3(*normal).norm() == 0.0 {
+                    return Err(invalid(format!("{field}.plane.normal"), "is the zero vector"));
+                }
+                if let Some(t) = tolerance {
+                    positive(&format!("{field}.plane.tolerance"), *t)?;
+                }
+            }
+            Selection3::Line { from, to } => {
+                finite3(&format!("{field}.line.from"), from)?;
+                finite3(&format!("{field}.line.to"), to)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Scene3 {
+    /// Parse and validate TOML text; `origin` names the source in errors, `base_dir` is
+    /// where relative STL paths are resolved.
+    pub fn from_toml(text: &str, origin: &str, base_dir: Option<&Path>) -> Result<Scene3, SceneError> {
+        let parse_err = |message: String| SceneError::Parse { path: origin.to_string(), message };
+        let value: toml::Value = toml::from_str(text).map_err(|e| parse_err(e.to_string()))?;
+        check_vector_lengths(&value, 3)?;
+        let mut scene: Scene3 = toml::from_str(text).map_err(|e| parse_err(e.to_string()))?;
+        scene.base_dir = base_dir.map(Path::to_path_buf);
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    pub fn from_file(path: &Path) -> Result<Scene3, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io { path: path.display().to_string(), source: e })?;
+        Scene3::from_toml(&text, &path.display().to_string(), path.parent())
+    }
+
+    /// Check every value for physical sense; the error names the field.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        if self.cracks.is_some() {
+            return Err(invalid("cracks", "cracks in 3D scenes (triangulated crack surfaces, 001 §2.1) are not built yet (issue 15); only 2D scenes take [[cracks]]"));
+        }
+        let g = &self.grid;
+        let mut nodes = 1.0f64;
+        for c in 0..3 {
+            finite(&format!("grid.origin[{c}]"), g.origin[c])?;
+            positive(&format!("grid.size[{c}]"), g.size[c])?;
+            positive(&format!("grid.cell[{c}]"), g.cell[c])?;
+            let n = g.size[c] / g.cell[c];
+            if (n - n.round()).abs() > 1e-9 * n.max(1.0) || n.round() < 1.0 {
+                return Err(invalid(format!("grid.size[{c}]"), format!("{} is not a whole number of cells of size {} (got {n} cells)", g.size[c], g.cell[c])));
+            }
+            nodes *= n.round() + 1.0;
+        }
+        // Nodal arrays of one velocity field take ~170 bytes per node (7 vectors and a
+        // mass); refuse a grid whose arrays alone would not fit in 16 GiB.
+        let bytes = nodes * 200.0;
+        if bytes > 16.0 * (1u64 << 30) as f64 {
+            return Err(invalid("grid.size", format!("{nodes:.3e} nodes would need about {:.0} GiB for the nodal arrays alone; use fewer or larger cells", bytes / (1u64 << 30) as f64)));
+        }
+        let s = &self.solver;
+        positive("solver.end_time", s.end_time)?;
+        if let Some(cfl) = s.cfl {
+            positive("solver.cfl", cfl)?;
+            if cfl > 1.0 {
+                return Err(invalid("solver.cfl", format!("must be at most 1 (a fraction of the CFL limit), got {cfl}")));
+            }
+        }
+        if let Some(dt) = s.dt {
+            positive("solver.dt", dt)?;
+        }
+        finite("solver.damping", s.damping)?;
+        if s.damping < 0.0 {
+            return Err(invalid("solver.damping", format!("must be zero or positive, got {}", s.damping)));
+        }
+        if s.particles_per_cell == 0 || s.particles_per_cell > 8 {
+            return Err(invalid("solver.particles_per_cell", format!("must be 1 to 8, got {}", s.particles_per_cell)));
+        }
+        if let Some(h) = self.output.history_interval {
+            positive("output.history_interval", h)?;
+        }
+        if let Some(a) = self.output.archive_interval {
+            positive("output.archive_interval", a)?;
+        }
+        if self.materials.is_empty() {
+            return Err(invalid("materials", "at least one material is required"));
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            let f = |n: &str| format!("materials[{i}].{n}");
+            if m.state.is_some() {
+                return Err(invalid(f("state"), "plane_stress / plane_strain mean nothing in a 3D scene (the solid is 3D); remove the field"));
+            }
+            positive(&f("E"), m.e)?;
+            positive(&f("rho"), m.rho)?;
+            finite(&f("nu"), m.nu)?;
+            if !(m.nu > -1.0 && m.nu < 0.5) {
+                return Err(invalid(f("nu"), format!("Poisson's ratio must be in (−1, 0.5), got {}", m.nu)));
+            }
+            if self.materials[..i].iter().any(|o| o.name == m.name) {
+                return Err(invalid(f("name"), format!("duplicate material name '{}'", m.name)));
+            }
+        }
+        if self.bodies.is_empty() {
+            return Err(invalid("bodies", "at least one body is required"));
+        }
+        for (i, b) in self.bodies.iter().enumerate() {
+            let f = |n: &str| format!("bodies[{i}].{n}");
+            if !self.materials.iter().any(|m| m.name == b.material) {
+                return Err(invalid(f("material"), format!("no material named '{}'", b.material)));
+            }
+            finite3(&f("velocity"), &b.velocity)?;
+            finite3(&f("body_force"), &b.body_force)?;
+            if let Some(sv) = &b.velocity_sine {
+                finite3(&f("velocity_sine.amplitude"), &sv.amplitude)?;
+                finite3(&f("velocity_sine.k"), &sv.k)?;
+                finite3(&f("velocity_sine.origin"), &sv.origin)?;
+            }
+            match &b.shape {
+                Solid::Box { min, max } => {
+                    finite3(&f("shape.box.min"), min)?;
+                    finite3(&f("shape.box.max"), max)?;
+                    if !(0..3).all(|c| max[c] > min[c]) {
+                        return Err(invalid(f("shape.box"), format!("max {max:?} must exceed min {min:?} in every direction")));
+                    }
+                }
+                Solid::Sphere { center, radius } => {
+                    finite3(&f("shape.sphere.center"), center)?;
+                    positive(&f("shape.sphere.radius"), *radius)?;
+                }
+                Solid::Cylinder { from, to, radius } | Solid::Tube { from, to, radius, .. } => {
+                    let kind = if matches!(b.shape, Solid::Cylinder { .. }) { "cylinder" } else { "tube" };
+                    finite3(&f(&format!("shape.{kind}.from")), from)?;
+                    finite3(&f(&format!("shape.{kind}.to")), to)?;
+                    positive(&f(&format!("shape.{kind}.radius")), *radius)?;
+                    if from == to {
+                        return Err(invalid(f(&format!("shape.{kind}.to")), "equals `from`: the axis has zero length"));
+                    }
+                    if let Solid::Tube { inner_radius, .. } = &b.shape {
+                        positive(&f("shape.tube.inner_radius"), *inner_radius)?;
+                        if inner_radius >= radius {
+                            return Err(invalid(f("shape.tube.inner_radius"), format!("must be below radius {radius}, got {inner_radius}")));
+                        }
+                    }
+                }
+                Solid::Extrusion { points, from, to, .. } => {
+                    if points.len() < 3 {
+                        return Err(invalid(f("shape.extrusion.points"), format!("a polygon needs at least 3 points, got {}", points.len())));
+                    }
+                    for (k, p) in points.iter().enumerate() {
+                        finite(&f(&format!("shape.extrusion.points[{k}][0]")), p[0])?;
+                        finite(&f(&format!("shape.extrusion.points[{k}][1]")), p[1])?;
+                    }
+                    finite(&f("shape.extrusion.from"), *from)?;
+                    finite(&f("shape.extrusion.to"), *to)?;
+                    if from == to {
+                        return Err(invalid(f("shape.extrusion.to"), "equals `from`: the extrusion has zero length"));
+                    }
+                }
+                Solid::Stl { file } => {
+                    if file.is_empty() {
+                        return Err(invalid(f("shape.stl.file"), "is empty"));
+                    }
+                }
+            }
+        }
+        for (i, b) in self.boundary.iter().enumerate() {
+            let f = format!("boundary[{i}]");
+            b.nodes.validate(&format!("{f}.nodes"))?;
+            if b.vx.is_none() && b.vy.is_none() && b.vz.is_none() {
+                return Err(invalid(f, "fixes nothing: give vx, vy and/or vz"));
+            }
+            for (k, val) in [("vx", b.vx), ("vy", b.vy), ("vz", b.vz)] {
+                if let Some(x) = val {
+                    finite(&format!("boundary[{i}].{k}"), x)?;
+                }
+            }
+        }
+        for (i, l) in self.loads.iter().enumerate() {
+            l.particles.validate(&format!("loads[{i}].particles"))?;
+            finite3(&format!("loads[{i}].force"), &l.force)?;
+            if l.ramp.is_nan() || l.ramp < 0.0 || l.ramp.is_infinite() {
+                return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive and finite, got {}", l.ramp)));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn grid(&self) -> Grid3 {
+        let g = &self.grid;
+        Grid3 { origin: v3(g.origin), h: v3(g.cell), n: std::array::from_fn(|c| (g.size[c] / g.cell[c]).round() as usize) }
+    }
+
+    pub fn materials(&self) -> Vec<LinearElastic> {
+        self.materials.iter().map(|m| LinearElastic::solid(m.e, m.nu, m.rho)).collect()
+    }
+
+    /// The time step: explicit `dt`, or `cfl` (default 0.5) × smallest cell / c_d (3D).
+    pub fn time_step(&self) -> f64 {
+        match self.solver.dt {
+            Some(dt) => dt,
+            None => self.solver.cfl.unwrap_or(0.5) * cfl_time_step(&self.grid(), &self.materials()),
+        }
+    }
+
+    /// History interval (default end_time / 100).
+    pub fn history_interval(&self) -> f64 {
+        self.output.history_interval.unwrap_or(self.solver.end_time / 100.0)
+    }
+
+    /// Fill the bodies with particles (n³ per cell on the regular sub-lattice, first
+    /// body wins; only the cells of each body's bounding box are visited, so the cost
+    /// scales with the material, not the grid), resolve loads and boundary conditions,
+    /// and assemble the simulation.
+    pub fn build(&self) -> Result<Simulation<D3>, SceneError> {
+        let grid = self.grid();
+        let mats = self.materials();
+        let n = self.solver.particles_per_cell;
+        let meshes = self.load_meshes()?;
+        let (lo, hi) = (grid.origin, crate::dim::GridGeometry::max_corner(&grid));
+        for (k, body) in self.bodies.iter().enumerate() {
+            let (a, b) = body.shape.bounds(meshes[k].as_ref());
+            if (0..3).any(|c| a[c] < lo[c] || b[c] > hi[c]) {
+                return Err(invalid(
+                    format!("bodies[{k}].shape"),
+                    format!("extends outside the grid [{}, {}] × [{}, {}] × [{}, {}] (its box is {:?} to {:?})", lo.x, hi.x, lo.y, hi.y, lo.z, hi.z, [a.x, a.y, a.z], [b.x, b.y, b.z]),
+                ));
+            }
+        }
+        let sub = grid.h / n as f64;
+        let lp = sub * 0.5;
+        let mut particles: Particles<D3> = Particles::default();
+        let mut owner: Vec<Vec<Vector3>> = vec![Vec::new(); self.bodies.len()];
+        // Cells in z, y, x order; sub-particles within a cell in the same order.
+        let (mut clo, mut chi) = ([usize::MAX; 3], [0usize; 3]);
+        for (k, body) in self.bodies.iter().enumerate() {
+            let (a, b) = body.shape.bounds(meshes[k].as_ref());
+            for c in 0..3 {
+                let i0 = ((a[c] - grid.origin[c]) / grid.h[c]).floor().max(0.0) as usize;
+                let i1 = (((b[c] - grid.origin[c]) / grid.h[c]).ceil() as usize).min(grid.n[c]);
+                clo[c] = clo[c].min(i0);
+                chi[c] = chi[c].max(i1);
+            }
+        }
+        for iz in clo[2]..chi[2] {
+            for iy in clo[1]..chi[1] {
+                for ix in clo[0]..chi[0] {
+                    for cz in 0..n {
+                        for cy in 0..n {
+                            for cx in 0..n {
+                                let frac = |i: usize, c: usize| i as f64 + (c as f64 + 0.5) / n as f64;
+                                let x = Vector3::new(
+                                    grid.origin.x + grid.h.x * frac(ix, cx),
+                                    grid.origin.y + grid.h.y * frac(iy, cy),
+                                    grid.origin.z + grid.h.z * frac(iz, cz),
+                                );
+                                if let Some(k) = self.bodies.iter().enumerate().position(|(k, body)| body.shape.contains(&x, meshes[k].as_ref())) {
+                                    owner[k].push(x);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        for (k, body) in self.bodies.iter().enumerate() {
+            if owner[k].is_empty() {
+                return Err(invalid(format!("bodies[{k}].shape"), "contains no particle positions (the body is smaller than the particle spacing, or hidden by earlier bodies)"));
+            }
+            let mi = self.materials.iter().position(|m| m.name == body.material).unwrap_or(0);
+            let vol0 = sub.x * sub.y * sub.z;
+            let mass = mats[mi].rho * vol0;
+            for x in &owner[k] {
+                let mut vel = v3(body.velocity);
+                if let Some(sv) = &body.velocity_sine {
+                    let phase = v3(sv.k).dot(&(x - v3(sv.origin)));
+                    vel += v3(sv.amplitude) * phase.sin();
+                }
+                particles.push(*x, vel, mass, vol0, lp, mi as u16, k as u16);
+            }
+        }
+        if particles.len() > u32::MAX as usize / 27 {
+            return Err(invalid("solver.particles_per_cell", format!("{} particles are more than the pair index can address", particles.len())));
+        }
+        let hmin = crate::dim::GridGeometry::min_h(&grid);
+        let mut loads = Vec::new();
+        for (li, l) in self.loads.iter().enumerate() {
+            let tol = l.particles.tolerance(hmin);
+            let sel: Vec<usize> = (0..particles.len()).filter(|&p| l.particles.contains(&particles.x[p], tol)).collect();
+            if sel.is_empty() {
+                return Err(invalid(format!("loads[{li}].particles"), "selects no particles"));
+            }
+            for &p in &sel {
+                if particles.load[p] != NO_LOAD {
+                    return Err(invalid(format!("loads[{li}].particles"), format!("selects particle at {:?} already loaded by loads[{}]", particles.x[p], particles.load[p])));
+                }
+                particles.load[p] = li as u16;
+            }
+            loads.push(Load { force_per_particle: v3(l.force) / sel.len() as f64, ramp: l.ramp });
+        }
+        let nn = crate::dim::GridGeometry::num_nodes(&grid);
+        let mut bcs = NodeBcs::new(nn);
+        for (bi, b) in self.boundary.iter().enumerate() {
+            let tol = b.nodes.tolerance(hmin);
+            let mut any = false;
+            for i in 0..nn {
+                if b.nodes.contains(&crate::dim::GridGeometry::node_pos(&grid, i), tol) {
+                    any = true;
+                    for (c, val) in [b.vx, b.vy, b.vz].into_iter().enumerate() {
+                        if let Some(v) = val {
+                            bcs.fix(i, c, v);
+                        }
+                    }
+                }
+            }
+            if !any {
+                return Err(invalid(format!("boundary[{bi}].nodes"), "selects no grid nodes"));
+            }
+        }
+        bcs.finish();
+        let options = Options {
+            scheme: self.solver.scheme,
+            shape: self.solver.shape,
+            dt: self.time_step(),
+            damping: self.solver.damping,
+            damping_on: self.solver.damping_on,
+            checked: self.solver.checked,
+            crack_method: self.solver.crack_method,
+        };
+        let body_force = self.bodies.iter().map(|b| v3(b.body_force)).collect();
+        let thickness = vec![1.0; self.bodies.len()];
+        Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, Vec::new(), options))
+    }
+
+    /// Read every STL body's surface (None for the other solids).
+    fn load_meshes(&self) -> Result<Vec<Option<crate::stl::ClosedMesh>>, SceneError> {
+        self.bodies
+            .iter()
+            .enumerate()
+            .map(|(k, b)| match &b.shape {
+                Solid::Stl { file } => {
+                    let path = match &self.base_dir {
+                        Some(d) if Path::new(file).is_relative() => d.join(file),
+                        _ => PathBuf::from(file),
+                    };
+                    crate::stl::ClosedMesh::read(&path).map(Some).map_err(|e| invalid(format!("bodies[{k}].shape.stl.file"), format!("{}: {e}", path.display())))
+                }
+                _ => Ok(None),
+            })
+            .collect()
+    }
+}
+
+/// A scene file of either dimension.
+#[derive(Clone, Debug)]
+pub enum AnyScene {
+    D2(crate::scene::Scene),
+    D3(Scene3),
+}
+
+impl AnyScene {
+    /// Read a scene file, deciding its dimension from `grid.cell`.
+    pub fn from_file(path: &Path) -> Result<AnyScene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io { path: path.display().to_string(), source: e })?;
+        AnyScene::from_toml(&text, &path.display().to_string(), path.parent())
+    }
+
+    pub fn from_toml(text: &str, origin: &str, base_dir: Option<&Path>) -> Result<AnyScene, SceneError> {
+        let value: toml::Value = toml::from_str(text).map_err(|e| SceneError::Parse { path: origin.to_string(), message: e.to_string() })?;
+        match detect_dimension(&value).map_err(|m| SceneError::Parse { path: origin.to_string(), message: m })? {
+            3 => Ok(AnyScene::D3(Scene3::from_toml(text, origin, base_dir)?)),
+            _ => {
+                check_vector_lengths(&value, 2)?;
+                Ok(AnyScene::D2(crate::scene::Scene::from_toml(text, origin)?))
+            }
+        }
+    }
+}
+
