@@ -294,15 +294,29 @@ impl Solid {
 }
 
 /// Squared distance of x from the axis from→to, if its projection lies between the ends.
+/// For an axis along a coordinate direction it is the sum of the two other squared
+/// offsets, computed as the 2D disk test computes it, so a cylinder along z holds exactly
+/// the lattice points of the 2D disk it extrudes.
 fn radial(x: &Vector3, from: &[f64; 3], to: &[f64; 3]) -> Option<f64> {
     let (a, b) = (v3(*from), v3(*to));
     let d = b - a;
-    let t = (x - a).dot(&d);
+    let r = x - a;
+    let axial: Vec<usize> = (0..3).filter(|&c| d[c] != 0.0).collect();
+    if let [k] = axial[..] {
+        let (lo, hi) = (a[k].min(b[k]), a[k].max(b[k]));
+        if x[k] < lo || x[k] > hi {
+            return None;
+        }
+        let (u, w) = ((k + 1) % 3, (k + 2) % 3);
+        let (u, w) = (u.min(w), u.max(w));
+        return Some(r[u] * r[u] + r[w] * r[w]);
+    }
+    let t = r.dot(&d);
     let l2 = d.norm_squared();
     if t < 0.0 || t > l2 {
         return None;
     }
-    Some(((x - a) - d * (t / l2)).norm_squared())
+    Some((r - d * (t / l2)).norm_squared())
 }
 
 impl Selection3 {

@@ -66,5 +66,9 @@ golden_case!(
     mode_ii_kink,
     dcb_growth,
     plates_k,
-    mpm_vs_fea
+    mpm_vs_fea,
+    bar_3d,
+    spheres_3d,
+    block_3d,
+    extrusion_2d_3d
 );

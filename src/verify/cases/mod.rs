@@ -12,6 +12,7 @@ pub mod growth;
 pub mod impact;
 pub mod plates;
 pub mod stability;
+pub mod three_d;
 pub mod vibrating_bar;
 
 use super::Case;
@@ -41,6 +42,10 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "dcb_growth", run: growth::run_dcb_growth },
     Case { name: "plates_k", run: plates::run },
     Case { name: "mpm_vs_fea", run: fea::run_mpm_vs_fea },
+    Case { name: "bar_3d", run: three_d::run_bar },
+    Case { name: "spheres_3d", run: three_d::run_spheres },
+    Case { name: "block_3d", run: three_d::run_block },
+    Case { name: "extrusion_2d_3d", run: three_d::run_extrusion },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "dcb_long", run: fracture::run_dcb_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },

@@ -168,22 +168,27 @@ fn slope(x: &[f64], y: &[f64]) -> f64 {
 /// Run the bar to the scene's end time and measure period, energy and v_cm error.
 pub fn run_bar(scene: &Scene) -> anyhow::Result<BarRun> {
     let bar = Bar::of(scene)?;
-    let mut sim = scene.build()?;
+    run_bar_sim(scene.build()?, scene.solver.end_time, bar.v0, bar.omega())
+}
+
+/// [`run_bar`] on a built simulation of either dimension: run to `end_time` and measure
+/// the period of the centre-of-mass velocity (x component), the energy error and the
+/// error of v_cm against (2 v0/π) cos ωt.
+pub fn run_bar_sim<S: crate::simulation::Dimension>(mut sim: crate::simulation::Simulation<S>, end_time: f64, v0: f64, omega: f64) -> anyhow::Result<BarRun> {
     let mass: f64 = crate::exact::sum(&sim.particles.mass);
     let e0 = sim.energies().total();
-    let amp = 2.0 * bar.v0 / PI;
-    let omega = bar.omega();
-    let total_steps = (scene.solver.end_time / sim.options.dt).ceil().max(1.0) as u64;
+    let amp = 2.0 * v0 / PI;
+    let total_steps = (end_time / sim.options.dt).ceil().max(1.0) as u64;
     let every = (total_steps / 800).max(1);
-    let mut prev = (0.0, sim.total_momentum().x / mass, e0);
+    let mut prev = (0.0, sim.total_momentum()[0] / mass, e0);
     let mut crossings: Vec<(f64, f64)> = Vec::new();
     let (mut max_drift, mut vcm_error) = (0.0f64, ((prev.1 - amp) / amp).abs());
     let mut energy_history = vec![(0.0, 0.0)];
     let mut bucket: (f64, f64) = (0.0, 0.0);
     let mut vcm_history = vec![(0.0, prev.1)];
     let start = Instant::now();
-    sim.run_until(scene.solver.end_time, |s| {
-        let v = s.total_momentum().x / mass;
+    sim.run_until(end_time, |s| {
+        let v = s.total_momentum()[0] / mass;
         let t = s.time;
         let e = s.energies().total();
         if prev.1 > 0.0 && v <= 0.0 || prev.1 < 0.0 && v >= 0.0 {
