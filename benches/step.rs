@@ -144,5 +144,37 @@ fn bench_step(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_step);
+/// The 3D performance scene (verification/dcb_perf_3d.toml: 28,800 particles, 2 mm
+/// cells, uGIMP, USAVG, crack-free) after 50 steps, checked mode off: the whole step on 1
+/// and 2 threads, and its stages. Throughput in particle-steps per second.
+fn bench_step_3d(c: &mut Criterion) {
+    let path = format!("{}/verification/dcb_perf_3d.toml", env!("CARGO_MANIFEST_DIR"));
+    let scene = cramp::scene3d::Scene3::from_file(std::path::Path::new(&path)).unwrap();
+    let mut sim = scene.build().unwrap();
+    sim.options.checked = false;
+    for _ in 0..50 {
+        sim.step().unwrap();
+    }
+    println!("3D: threads {}, {} particles, {} active nodes of {}", rayon::current_num_threads(), sim.particles.len(), sim.nodes.active.len(), cramp::dim::GridGeometry::num_nodes(&sim.grid));
+    let mut g = quick(c, "whole_step_3d");
+    g.throughput(Throughput::Elements(sim.particles.len() as u64));
+    let mut s = sim.clone();
+    g.bench_function("dcb_3d", |b| b.iter(|| s.step().unwrap()));
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let mut s = sim.clone();
+    g.bench_function("dcb_3d_2_threads", |b| b.iter(|| pool.install(|| s.step().unwrap())));
+    g.finish();
+    let mut g = quick(c, "stages_3d");
+    g.throughput(Throughput::Elements(sim.particles.len() as u64));
+    let mut s = sim.clone();
+    g.bench_function("particle_to_grid", |b| b.iter(|| s.bench_particle_to_grid().unwrap()));
+    let mut s = sim.clone();
+    s.bench_particle_to_grid().unwrap();
+    g.bench_function("grid_update", |b| b.iter_batched_ref(|| s.clone(), |s| s.bench_grid_update().unwrap(), BatchSize::LargeInput));
+    let mut s = sim.clone();
+    g.bench_function("grid_to_particle", |b| b.iter(|| s.bench_grid_to_particle()));
+    g.finish();
+}
+
+criterion_group!(benches, bench_step, bench_step_3d);
 criterion_main!(benches);

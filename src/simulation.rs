@@ -171,11 +171,13 @@ pub struct Pairs<S: Space = D2> {
     pub g: Vec<S::Vector>,
     /// Velocity field ν(p,i) ∈ {0,1,2} (eq. 2); all 0 without cracks.
     pub field: Vec<u8>,
-    /// CSR over nodes: pairs of node i are `items[start[i]..start[i+1]]` (pair index p·MAX_NODES + k).
+    /// Compact index of each node active this step (u32::MAX: not active); reset on the
+    /// active nodes only, so its upkeep scales with the material, not the grid.
+    pub slot: Vec<u32>,
+    /// CSR over the active nodes in ascending order: the pairs of the active node with
+    /// compact index a are `items[start[a]..start[a+1]]` (pair index p·MAX_NODES + k).
     pub start: Vec<u32>,
     pub items: Vec<u32>,
-    /// Scratch cursor for filling `items` (kept to avoid allocating inside the step).
-    pub fill: Vec<u32>,
 }
 
 impl<S: Space> Pairs<S> {
@@ -187,16 +189,19 @@ impl<S: Space> Pairs<S> {
             s: vec![0.0; np * stride],
             g: vec![S::Vector::zeros(); np * stride],
             field: vec![0; np * stride],
-            start: vec![0; nn + 1],
+            slot: vec![u32::MAX; nn],
+            start: Vec::new(),
             items: Vec::with_capacity(np * stride),
-            fill: Vec::with_capacity(nn),
         }
     }
 
     /// Pair indices of node `i` (after the CSR build of Task 1).
     #[inline]
     pub fn of_node(&self, i: usize) -> &[u32] {
-        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+        match self.slot.get(i) {
+            Some(&a) if a != u32::MAX => &self.items[self.start[a as usize] as usize..self.start[a as usize + 1] as usize],
+            _ => &[],
+        }
     }
 
     /// Pair indices of particle `p`.

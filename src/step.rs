@@ -35,7 +35,7 @@ use crate::particles::NO_LOAD;
 use crate::shape::ShapeKind;
 use crate::simulation::{DampingOn, Dimension, Scheme, Simulation};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 /// `simd!(on, avx2_call, baseline_call)`: the AVX2 copy ([`avx2`]) when `on` (the value
 /// of [`crate::simd::enabled`], read once per task), else the baseline code; both give
@@ -215,55 +215,85 @@ impl<S: Dimension> Simulation<S> {
     }
 
     /// Build the node → pair incidence (CSR) by a counting sort over the pairs, and the
-    /// list of active nodes. Only nodes that some particle touches are visited afterwards.
+    /// list of active nodes. Only nodes that some particle touches are visited, here and
+    /// afterwards: the work is proportional to the pairs and the active nodes, never to
+    /// the grid (which has 10⁶–10⁷ nodes in 3D).
     ///
     /// In parallel, with the serial result: the particles are split into contiguous
-    /// chunks (one per thread) that count their pairs per node; a serial prefix sum over
-    /// the nodes gives every (node, chunk) its own slots, chunk after chunk, so a node's
-    /// pairs stay in particle order; then each chunk writes its pairs into its slots
-    /// (through atomic cells, as the slots of different chunks interleave) and the slots
-    /// are copied into `items`.
+    /// chunks (one per thread); each chunk lists the nodes it touches first (an atomic
+    /// mark per node), the lists are merged and sorted into the active nodes, and each
+    /// active node gets its compact index (`pairs.slot`). The chunks count their pairs per
+    /// active node; a serial prefix sum over the active nodes gives every (node, chunk)
+    /// its own slots, chunk after chunk, so a node's pairs stay in particle order; then
+    /// each chunk writes its pairs into its slots (through atomic cells, as the slots of
+    /// different chunks interleave) and the slots are copied into `items`.
     fn build_node_incidence(&mut self) {
         let np = self.particles.len();
         let nn = self.grid.num_nodes();
-        // Last step's present bits are stale only on last step's active nodes.
+        let pairs = &mut self.pairs;
+        let scratch = &mut self.scratch;
+        // Last step's present bits and compact indices are stale only on last step's active nodes.
         for &i in &self.nodes.active {
             self.nodes.present[i as usize] = 0;
+            pairs.slot[i as usize] = u32::MAX;
+        }
+        if scratch.marks.len() != nn {
+            scratch.marks = (0..nn).map(|_| AtomicBool::new(false)).collect();
         }
         let chunks = rayon::current_num_threads().clamp(1, np.div_ceil(4096).max(1));
         let per_chunk = np.div_ceil(chunks).max(1);
-        let pairs = &mut self.pairs;
-        let scratch = &mut self.scratch;
         scratch.chunk_counts.resize_with(chunks, Vec::new);
+        scratch.chunk_nodes.resize_with(chunks, Vec::new);
         let (count, node) = (&pairs.count, &pairs.node);
         let stride = S::MAX_NODES;
         let chunk_pairs = |c: usize| {
             (c * per_chunk..((c + 1) * per_chunk).min(np)).flat_map(move |i| (i * stride..i * stride + count[i] as usize).map(move |k| (k, node[k] as usize)))
         };
-        // Pairs per node, per chunk.
-        scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, counts)| {
-            counts.clear();
-            counts.resize(nn, 0);
+        // The nodes each chunk touches first.
+        let marks = &scratch.marks;
+        scratch.chunk_nodes.par_iter_mut().enumerate().for_each(|(c, list)| {
+            list.clear();
             for (_, n) in chunk_pairs(c) {
-                counts[n] += 1;
+                // A plain load first: most pairs meet a node already marked, and the
+                // swap (a locked exchange) is needed only to claim a new one.
+                if !marks[n].load(Ordering::Relaxed) && !marks[n].swap(true, Ordering::Relaxed) {
+                    list.push(n as u32);
+                }
             }
         });
-        // Offsets: node i's pairs are items[start[i]..start[i+1]], chunk by chunk; the
-        // counts become each chunk's write cursors.
-        self.nodes.active.clear();
-        pairs.start[0] = 0;
+        // The active nodes, ascending, and their compact indices.
+        let active = &mut self.nodes.active;
+        active.clear();
+        for list in &scratch.chunk_nodes {
+            active.extend_from_slice(list);
+        }
+        active.sort_unstable();
+        for (k, &n) in active.iter().enumerate() {
+            marks[n as usize].store(false, Ordering::Relaxed);
+            pairs.slot[n as usize] = k as u32;
+        }
+        let na = active.len();
+        let slot = &pairs.slot;
+        // Pairs per active node, per chunk.
+        scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, counts)| {
+            counts.clear();
+            counts.resize(na, 0);
+            for (_, n) in chunk_pairs(c) {
+                counts[slot[n] as usize] += 1;
+            }
+        });
+        // Offsets: the a-th active node's pairs are items[start[a]..start[a+1]], chunk by
+        // chunk; the counts become each chunk's write cursors.
+        pairs.start.clear();
+        pairs.start.push(0);
         let mut total = 0u32;
-        for i in 0..nn {
-            let begin = total;
+        for a in 0..na {
             for counts in scratch.chunk_counts.iter_mut() {
-                let n = counts[i];
-                counts[i] = total;
+                let n = counts[a];
+                counts[a] = total;
                 total += n;
             }
-            pairs.start[i + 1] = total;
-            if total > begin {
-                self.nodes.active.push(i as u32);
-            }
+            pairs.start.push(total);
         }
         let total = total as usize;
         if scratch.slots.len() < total {
@@ -272,8 +302,9 @@ impl<S: Dimension> Simulation<S> {
         let slots = &scratch.slots;
         scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, cursor)| {
             for (k, n) in chunk_pairs(c) {
-                slots[cursor[n] as usize].store(k as u32, Ordering::Relaxed);
-                cursor[n] += 1;
+                let a = slot[n] as usize;
+                slots[cursor[a] as usize].store(k as u32, Ordering::Relaxed);
+                cursor[a] += 1;
             }
         });
         pairs.items.resize(total, 0);
@@ -938,8 +969,12 @@ pub struct Scratch<S: Space> {
     pub momentum: Vec<[S::Vector; MAX_FIELDS]>,
     pub grad_v: Vec<S::Tensor>,
     pub increments: Vec<(S::Vector, S::Vector)>,
-    /// CSR build: pairs per node of each particle chunk, then the chunks' write cursors.
+    /// CSR build: pairs per active node of each particle chunk, then the chunks' write cursors.
     pub chunk_counts: Vec<Vec<u32>>,
+    /// CSR build: the nodes each particle chunk touched first.
+    pub chunk_nodes: Vec<Vec<u32>>,
+    /// CSR build: per grid node, touched this step (false again once the active list is built).
+    pub marks: Vec<AtomicBool>,
     /// CSR build: the pair slots, written by the chunks in parallel.
     pub slots: Vec<AtomicU32>,
     /// Particles with a load or a body force this step, ascending.
@@ -968,6 +1003,8 @@ impl<S: Space> Default for Scratch<S> {
             grad_v: Vec::new(),
             increments: Vec::new(),
             chunk_counts: Vec::new(),
+            chunk_nodes: Vec::new(),
+            marks: Vec::new(),
             slots: Vec::new(),
             forced: Vec::new(),
             crack_index: Vec::new(),

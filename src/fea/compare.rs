@@ -132,10 +132,7 @@ pub fn compare_on_crack_line(
         }
         // MPM: the field the particles on the upper side use at this node.
         let node = sim.grid.node_index(i, j);
-        if node + 1 >= pairs.start.len() {
-            continue;
-        }
-        let items = &pairs.items[pairs.start[node] as usize..pairs.start[node + 1] as usize];
+        let items = pairs.of_node(node);
         let field = items
             .iter()
             .find(|&&it| (p.x[it as usize / MAX_NODES] - xn).dot(&e2) > 0.0)

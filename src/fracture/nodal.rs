@@ -55,11 +55,11 @@ impl Simulation {
         let p = &self.particles;
         let nf = nodes.fields.len();
         let mut out = [None; 3];
-        if node >= nodes.present.len() || nodes.present[node] == 0 || pairs.start.len() <= node + 1 {
+        if node >= nodes.present.len() || nodes.present[node] == 0 {
             return out;
         }
         let mut acc: [[ExactSum; NQ]; 3] = Default::default();
-        for &item in &pairs.items[pairs.start[node] as usize..pairs.start[node + 1] as usize] {
+        for &item in pairs.of_node(node) {
             let item = item as usize;
             let pp = item / MAX_NODES;
             let f = pairs.field[item] as usize;

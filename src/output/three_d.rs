@@ -97,10 +97,12 @@ pub fn bytes_per_particle_3d() -> usize {
     state + pairs
 }
 
-/// Memory of one grid node with one velocity field (mass, six vectors, present bit,
-/// CSR start).
+/// Memory of one grid node with one velocity field: mass and six vectors, the present
+/// bits, the compact CSR index and the touched mark, and the boundary-condition mask and
+/// velocity.
 pub fn bytes_per_node_3d() -> usize {
-    8 + 6 * std::mem::size_of::<Vector3>() + 1 + 4 + 1 + std::mem::size_of::<Vector3>() // + BC mask and velocity
+    let v = std::mem::size_of::<Vector3>();
+    8 + 6 * v + 1 + 4 + 1 + 1 + v
 }
 
 /// Build and run a 3D scene to its end time, recording history and writing outputs.
