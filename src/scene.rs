@@ -772,11 +772,6 @@ impl Scene {
             })
             .collect()
     }
-
-    /// History interval (default end_time / 100).
-    pub fn history_interval(&self) -> f64 {
-        self.output.history_interval.unwrap_or(self.solver.end_time / 100.0)
-    }
 }
 
 /// The embedded default scene (`cargo run --release` with no arguments).

@@ -21,7 +21,7 @@ fn run_demo(dir: &Path) {
     let mut scene = Scene::from_toml(DEFAULT_SCENE, "demo").unwrap();
     scene.solver.end_time = 0.5;
     scene.output.archive_interval = Some(0.25);
-    run_scene(&scene, &RunOptions { out_dir: Some(dir.to_path_buf()), progress: false, checked: Some(true) }).unwrap();
+    run_scene(&scene, &RunOptions { out_dir: Some(dir.to_path_buf()), progress: false, checked: Some(true), ..Default::default() }).unwrap();
 }
 
 fn copy_dir(from: &Path, to: &Path) {
@@ -168,7 +168,7 @@ fn crack_polylines_are_listed_not_compared() {
     scene.solver.end_time = 3.0;
     scene.output.archive_interval = Some(1.5);
     for d in ["a", "b"] {
-        run_scene(&scene, &RunOptions { out_dir: Some(root.join(d)), progress: false, checked: Some(true) }).unwrap();
+        run_scene(&scene, &RunOptions { out_dir: Some(root.join(d)), progress: false, checked: Some(true), ..Default::default() }).unwrap();
     }
     let c = compare_runs(&root.join("a"), &root.join("b"), Tolerance::default()).unwrap();
     assert!(c.agree(), "{}", c.render());
