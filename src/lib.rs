@@ -17,10 +17,12 @@
 //! * [`fracture`] — J-integral, K, growth criteria.
 //! * [`fea`] — the static Q4 finite-element solver used for comparison.
 //! * [`scene`] — TOML scene input and validation.
+//! * [`budget`] — the memory a scene needs, checked before it is built.
 //! * [`output`] — history CSV, summary JSON, VTK snapshots.
 //! * [`report`] — plots and the report index.
 //! * [`verify`] — the verification cases, `cramp verify` and `cramp compare`.
 
+pub mod budget;
 pub mod check;
 pub mod contact;
 pub mod crack;

@@ -5,8 +5,7 @@
 //!
 //! Other CSV files (`cracks.csv`, `growth.csv`, …) are compared like the history when
 //! present, columns of numbers within the tolerance and text columns (`tip`, `status`)
-//! for equality; crack
-//! polylines (`cracks_*.vtk`) are listed but not compared yet.
+//! for equality; crack polylines (`cracks_*.vtk`) are listed but not compared yet.
 //!
 //! A value agrees when |a − b| ≤ atol + rtol·|b| (b from RUN_B, the reference run). With
 //! the defaults rtol = atol = 0 that is equality: bit-identical up to the sign of zero.
