@@ -607,6 +607,10 @@ impl Scene {
                 if fr.contour == 0 {
                     return Err(invalid(format!("cracks[{i}].fracture.contour"), "must be at least 1 (cells from the node nearest the tip)"));
                 }
+                let cells = (g.size[0] / g.cell[0]).max(g.size[1] / g.cell[1]).round();
+                if fr.contour as f64 > cells {
+                    return Err(invalid(format!("cracks[{i}].fracture.contour"), format!("{} cells is more than the grid has ({cells} cells a side)", fr.contour)));
+                }
                 if let Some(gr) = &fr.growth {
                     let f = |n: &str| format!("cracks[{i}].fracture.growth.{n}");
                     if !(gr.increment > 0.0 && gr.increment <= 1.0) {
