@@ -540,8 +540,8 @@ fn binary_neither_hangs_nor_allocates_on_bad_scenes() {
         assert_eq!(code, Some(2), "--threads {n}: {stderr}");
         assert!(stderr.contains("--threads"), "{stderr}");
     }
-    let (code, stderr) = cramp_within(&["run", scene.to_str().unwrap(), "--out", out.to_str().unwrap(), "--force", "--threads", "64"], &[], 20.0);
+    let (code, stderr) = cramp_within(&["run", scene.to_str().unwrap(), "--out", out.to_str().unwrap(), "--force", "--threads", "512"], &[], 20.0);
     assert_eq!(code, Some(0), "{stderr}");
-    assert!(stderr.contains("warning: --threads 64 is more than the"), "{stderr}");
+    assert!(stderr.contains("warning: --threads 512 is more than the"), "{stderr}");
     std::fs::remove_dir_all(dir).ok();
 }
