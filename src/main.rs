@@ -91,6 +91,23 @@ enum Command {
     },
 }
 
+/// Print to stdout. A closed stdout (`cramp run … | head -1`) loses the text, which nobody
+/// reads, rather than panicking as `print!` does.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// [`out!`] with a newline.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 /// Exit status of `cramp compare` when the runs cannot be compared (bad input).
 const EXIT_BAD_INPUT: u8 = 2;
 
@@ -115,7 +132,7 @@ fn main() -> ExitCode {
         }
         Some(Command::Compare { run_a, run_b, rtol, atol }) => match compare::compare_runs(&run_a, &run_b, compare::Tolerance { rtol, atol }) {
             Ok(c) => {
-                print!("{}", c.render());
+                out!("{}", c.render());
                 Ok(if c.agree() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
             }
             Err(e) => {
@@ -142,7 +159,7 @@ fn list_cases() -> anyhow::Result<ExitCode> {
     for name in verify::case_names() {
         let c = m.case(name);
         let suite = if c.map(|c| c.quick.is_some()).unwrap_or(false) { "quick+full" } else { "full only " };
-        println!("{name:<18} {suite}  {}", c.map(|c| c.title.as_str()).unwrap_or("(no manifest entry)"));
+        outln!("{name:<18} {suite}  {}", c.map(|c| c.title.as_str()).unwrap_or("(no manifest entry)"));
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -159,13 +176,13 @@ fn run_verify(variant: Variant, out: &Path, names: &[String]) -> anyhow::Result<
         results.push(r);
     }
     let total = start.elapsed().as_secs_f64();
-    println!("{}", verify::report::text_table(&results));
+    outln!("{}", verify::report::text_table(&results));
     let problems = verify::report::write_report(out, &results, variant, total)?;
     for p in &problems {
         eprintln!("warning: {p}");
     }
     let failed: Vec<&str> = results.iter().filter(|r| !r.passed).map(|r| r.name.as_str()).collect();
-    println!(
+    outln!(
         "{} of {} cases passed in {total:.1} s; report in {}",
         results.len() - failed.len(),
         results.len(),
@@ -174,7 +191,7 @@ fn run_verify(variant: Variant, out: &Path, names: &[String]) -> anyhow::Result<
     if failed.is_empty() {
         Ok(ExitCode::SUCCESS)
     } else {
-        println!("FAILED: {}", failed.join(", "));
+        outln!("FAILED: {}", failed.join(", "));
         Ok(ExitCode::FAILURE)
     }
 }
@@ -203,7 +220,7 @@ fn fea(scene_path: PathBuf, out: Option<PathBuf>, force: bool) -> anyhow::Result
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-fea")));
     prepare_out_dir(&out, force)?;
-    print!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text());
+    out!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text());
     Ok(())
 }
 
@@ -245,7 +262,7 @@ fn execute(scene: &Scene, out: PathBuf, unchecked: bool, force: bool) -> anyhow:
     let r = run_scene(scene, &opts)?;
     let s = &r.summary;
     let e = &s.final_energies;
-    println!(
+    outln!(
         "{}: {} particles, {} steps of dt = {:.4e} to t = {:.4e} in {:.3} s ({:.3e} particle-steps/s, {} thread{}{})",
         if scene.title.is_empty() { "scene" } else { &scene.title },
         s.particles,
@@ -258,11 +275,11 @@ fn execute(scene: &Scene, out: PathBuf, unchecked: bool, force: bool) -> anyhow:
         if s.threads == 1 { "" } else { "s" },
         if s.checked { ", checked" } else { "" }
     );
-    println!(
+    outln!(
         "final energies: kinetic {:.6e}, strain {:.6e}, external work {:.6e}, damping {:.6e}, total {:.6e}",
         e.kinetic, e.strain, e.external_work, e.damping, e.total
     );
-    println!("outputs in {}", out.display());
+    outln!("outputs in {}", out.display());
     if s.status == RunStatus::Interrupted {
         eprintln!(
             "cramp: interrupted after step {} (t = {:e}); the outputs up to then and summary.json (status \"interrupted\") are in {}",

@@ -234,3 +234,24 @@ fn a_rerun_into_an_old_directory_is_refused_unless_forced() {
     assert_eq!(fea(&["--force"]), Some(0));
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// A closed stdout (`cramp run … | head -1`) is not a panic: the run finishes, exit 0.
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    let dir = scratch("pipe");
+    let scene = dir.join("s.toml");
+    std::fs::write(&scene, FLYING.replace("velocity = [10.0, 0.0]", "").replace("end_time = 1.0", "end_time = 0.005")).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cramp"))
+        .args(["run", scene.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let status = child.wait().unwrap();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut stderr).unwrap();
+    assert!(status.success() && !stderr.contains("panicked"), "{status}: {stderr}");
+    assert_eq!(summary(&dir.join("out"))["status"], "completed");
+    std::fs::remove_dir_all(dir).ok();
+}
