@@ -75,7 +75,8 @@ impl Scene {
             .iter()
             .map(|b| {
                 let (bmin, bmax) = b.shape.bounds();
-                let extent = |c: usize, a: f64, b: f64| ((b.min(hi[c]) - a.max(lo[c])) / g.cell[c] * n).max(0.0).floor() + 1.0;
+                let extent =
+                    |c: usize, a: f64, b: f64| ((b.min(hi[c]) - a.max(lo[c])) / g.cell[c] * n).max(0.0).floor() + 1.0;
                 extent(0, bmin.x, bmax.x) * extent(1, bmin.y, bmax.y)
             })
             .sum();

@@ -676,7 +676,8 @@ impl Scene {
         let dt_field = if s.dt.is_some() { "solver.dt" } else { "solver.cfl" };
         if !(dt > 0.0 && dt.is_finite()) {
             let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
-            let (k, c) = speeds.iter().copied().enumerate().fold((0, 0.0), |best, (k, c)| if !(c <= best.1) { (k, c) } else { best });
+            // The fastest material (a NaN speed, from inf/inf, sorts above every number).
+            let (k, c) = speeds.iter().copied().enumerate().max_by(|a, b| a.1.total_cmp(&b.1)).unwrap_or((0, 0.0));
             let m = &self.materials[k];
             return Err(invalid(
                 format!("materials[{k}]"),

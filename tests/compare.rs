@@ -21,7 +21,11 @@ fn run_demo(dir: &Path) {
     let mut scene = Scene::from_toml(DEFAULT_SCENE, "demo").unwrap();
     scene.solver.end_time = 0.5;
     scene.output.archive_interval = Some(0.25);
-    run_scene(&scene, &RunOptions { out_dir: Some(dir.to_path_buf()), progress: false, checked: Some(true), ..Default::default() }).unwrap();
+    run_scene(
+        &scene,
+        &RunOptions { out_dir: Some(dir.to_path_buf()), progress: false, checked: Some(true), ..Default::default() },
+    )
+    .unwrap();
 }
 
 fn copy_dir(from: &Path, to: &Path) {
@@ -168,7 +172,11 @@ fn crack_polylines_are_listed_not_compared() {
     scene.solver.end_time = 3.0;
     scene.output.archive_interval = Some(1.5);
     for d in ["a", "b"] {
-        run_scene(&scene, &RunOptions { out_dir: Some(root.join(d)), progress: false, checked: Some(true), ..Default::default() }).unwrap();
+        run_scene(
+            &scene,
+            &RunOptions { out_dir: Some(root.join(d)), progress: false, checked: Some(true), ..Default::default() },
+        )
+        .unwrap();
     }
     let c = compare_runs(&root.join("a"), &root.join("b"), Tolerance::default()).unwrap();
     assert!(c.agree(), "{}", c.render());
@@ -241,7 +249,8 @@ fn text_columns_compare_as_text() {
     scene.cracks[0].fracture = Some(toml::from_str("tips = \"end\"").unwrap());
     scene.solver.end_time = 1.0;
     for d in ["a", "b"] {
-        run_scene(&scene, &RunOptions { out_dir: Some(root.join(d)), checked: Some(true), ..Default::default() }).unwrap();
+        run_scene(&scene, &RunOptions { out_dir: Some(root.join(d)), checked: Some(true), ..Default::default() })
+            .unwrap();
     }
     let (a, b) = (root.join("a"), root.join("b"));
     let (code, stdout, stderr) = cramp(&["compare", a.to_str().unwrap(), b.to_str().unwrap()]);
@@ -254,6 +263,12 @@ fn text_columns_compare_as_text() {
     let c = compare_runs(&a, &b, Tolerance { rtol: 1.0, atol: 1.0 }).unwrap();
     let f = c.fields.iter().find(|f| f.violations > 0).unwrap();
     assert_eq!((f.field.as_str(), f.violations, c.violations()), ("cracks.tip", 1, 1));
-    assert!(f.worst_at.starts_with("cracks.csv row 2 (t = ") && f.worst_at.contains("tip = end") && f.worst_at.ends_with("(a = 'start', b = 'end')"), "{}", f.worst_at);
+    assert!(
+        f.worst_at.starts_with("cracks.csv row 2 (t = ")
+            && f.worst_at.contains("tip = end")
+            && f.worst_at.ends_with("(a = 'start', b = 'end')"),
+        "{}",
+        f.worst_at
+    );
     let _ = std::fs::remove_dir_all(&root);
 }

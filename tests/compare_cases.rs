@@ -26,7 +26,11 @@ fn scratch(name: &str) -> PathBuf {
 fn scenes() -> Vec<(String, Scene)> {
     let mut out = Vec::new();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("verification");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
     files.sort();
     for f in files {
         let name = f.file_stem().unwrap().to_string_lossy().into_owned();
@@ -40,7 +44,10 @@ fn scenes() -> Vec<(String, Scene)> {
     out.push(text("mode_ii_kink", cases::growth::shear_plate(1.0, 1.0, 1.0)));
     out.push(text("dcb_growth", cases::growth::dcb_growth_scene(2.0)));
     out.push(text("plates_k", cases::plates::PlateKind::Cct.scene(0.5).0));
-    out.push(text("crack_friction", cases::cracks::block_on_crack(1.0, [0.001, -0.01], 1.0, 2.0, "{ friction = { mu = 0.3 } }")));
+    out.push(text(
+        "crack_friction",
+        cases::cracks::block_on_crack(1.0, [0.001, -0.01], 1.0, 2.0, "{ friction = { mu = 0.3 } }"),
+    ));
     out.push(("chen_early_time".to_string(), cases::fracture::chen_scene(0.5, 1.0).unwrap()));
     out
 }
@@ -55,7 +62,8 @@ fn shortened(mut s: Scene) -> Scene {
 }
 
 fn run(scene: &Scene, dir: &Path) {
-    run_scene(scene, &RunOptions { out_dir: Some(dir.to_path_buf()), checked: Some(true), ..Default::default() }).unwrap();
+    run_scene(scene, &RunOptions { out_dir: Some(dir.to_path_buf()), checked: Some(true), ..Default::default() })
+        .unwrap();
 }
 
 fn copy_dir(from: &Path, to: &Path) {
@@ -107,10 +115,15 @@ fn every_verification_scene_compares_equal_to_itself_and_finds_one_perturbed_val
         assert!(c.agree(), "{name}: two runs differ\n{}", c.render());
         assert!(c.history_rows >= 7 && !c.snapshots.is_empty(), "{name}\n{}", c.render());
 
-        let mut names: Vec<String> = std::fs::read_dir(&b).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        let mut names: Vec<String> =
+            std::fs::read_dir(&b).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
         names.sort();
         for file in &names {
-            files_seen.insert(if file.ends_with(".csv") { file.clone() } else { file.split('_').next().unwrap_or("").to_string() });
+            files_seen.insert(if file.ends_with(".csv") {
+                file.clone()
+            } else {
+                file.split('_').next().unwrap_or("").to_string()
+            });
             if let Some(stem) = file.strip_suffix(".csv") {
                 // The last numeric cell of the last row, and every text column once.
                 let csv = cramp::verify::compare::read_csv(&b.join(file)).unwrap();
@@ -125,18 +138,30 @@ fn every_verification_scene_compares_equal_to_itself_and_finds_one_perturbed_val
                         continue;
                     }
                     copy_dir(&b, &p);
-                    edit_csv(&p.join(file), last, col, |old| if is_text { format!("{old}x") } else { format!("{:e}", nudge(old.parse().unwrap())) });
-                    one_violation(&p, &b, &format!("{stem}.{column}"), &format!("{name}: {file} column {column} (was '{cell}')"));
+                    edit_csv(&p.join(file), last, col, |old| {
+                        if is_text {
+                            format!("{old}x")
+                        } else {
+                            format!("{:e}", nudge(old.parse().unwrap()))
+                        }
+                    });
+                    one_violation(
+                        &p,
+                        &b,
+                        &format!("{stem}.{column}"),
+                        &format!("{name}: {file} column {column} (was '{cell}')"),
+                    );
                     perturbations += 1;
                 }
-            } else if Some(file) == names.iter().filter(|f| f.starts_with("particles_")).last() {
+            } else if Some(file) == names.iter().rfind(|f| f.starts_with("particles_")) {
                 copy_dir(&b, &p);
                 let mut s = vtk::read_points(p.join(file)).unwrap();
                 if let Some((_, PointArray::Tensor(t))) = s.arrays.iter_mut().find(|(n, _)| n == "stress") {
                     let k = t.len() / 2;
                     t[k].xy = nudge(t[k].xy);
                 }
-                let data: Vec<(&str, vtk::PointData)> = s.arrays.iter().map(|(n, a)| (n.as_str(), a.as_point_data())).collect();
+                let data: Vec<(&str, vtk::PointData)> =
+                    s.arrays.iter().map(|(n, a)| (n.as_str(), a.as_point_data())).collect();
                 vtk::write_points(p.join(file), &s.title, &s.positions, &data).unwrap();
                 one_violation(&p, &b, "particles.stress.xy", &format!("{name}: {file}"));
                 perturbations += 1;

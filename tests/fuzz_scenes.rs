@@ -82,18 +82,76 @@ impl Rng {
 }
 
 const NUMBERS: &[&str] = &[
-    "0", "0.0", "-0.0", "-1", "1", "2", "1e-300", "5e-324", "-5e-324", "1e300", "-1e300", "1.7976931348623157e308", "nan", "inf", "-inf",
-    "1e7", "1e8", "10000", "100000", "0.5", "3", "8", "9", "65536", "4294967296", "18446744073709551615", "-9223372036854775808", "1e-9",
+    "0",
+    "0.0",
+    "-0.0",
+    "-1",
+    "1",
+    "2",
+    "1e-300",
+    "5e-324",
+    "-5e-324",
+    "1e300",
+    "-1e300",
+    "1.7976931348623157e308",
+    "nan",
+    "inf",
+    "-inf",
+    "1e7",
+    "1e8",
+    "10000",
+    "100000",
+    "0.5",
+    "3",
+    "8",
+    "9",
+    "65536",
+    "4294967296",
+    "18446744073709551615",
+    "-9223372036854775808",
+    "1e-9",
 ];
 const WORDS: &[&str] = &[
-    "\"usl\"", "\"musl\"", "\"usf\"", "\"usavg\"", "\"linear\"", "\"ugimp\"", "\"plane_stress\"", "\"plane_strain\"", "\"none\"", "\"stick\"",
-    "\"frictionless\"", "\"start\"", "\"end\"", "\"both\"", "\"grid\"", "\"particles\"", "\"visibility\"", "\"velocity_fields\"", "\"\"", "true",
-    "false", "[]", "[0.0]", "[0.0, 0.0, 0.0]", "{}",
+    "\"usl\"",
+    "\"musl\"",
+    "\"usf\"",
+    "\"usavg\"",
+    "\"linear\"",
+    "\"ugimp\"",
+    "\"plane_stress\"",
+    "\"plane_strain\"",
+    "\"none\"",
+    "\"stick\"",
+    "\"frictionless\"",
+    "\"start\"",
+    "\"end\"",
+    "\"both\"",
+    "\"grid\"",
+    "\"particles\"",
+    "\"visibility\"",
+    "\"velocity_fields\"",
+    "\"\"",
+    "true",
+    "false",
+    "[]",
+    "[0.0]",
+    "[0.0, 0.0, 0.0]",
+    "{}",
 ];
 const LINES: &[&str] = &[
-    "max_steps = 1", "damping = 1e300", "dt = 1e-300", "history_interval = 1e-300", "archive_interval = 1e-300", "velocity = [nan, 0.0]",
-    "[[cracks]]\npoints = [[0.0, 0.0], [inf, 1.0]]", "[[cracks]]\npoints = [[1.0, 1.0], [1.0, 1.0]]", "[[bodies]]\nmaterial = \"x\"\nshape = { disk = { center = [nan, 0.0], radius = 1.0 } }",
-    "[output]\nhistory_interval = 5e-324", "particles_per_cell = 8", "cell = [1e-6, 1e-6]", "size = [1e7, 1e7]",
+    "max_steps = 1",
+    "damping = 1e300",
+    "dt = 1e-300",
+    "history_interval = 1e-300",
+    "archive_interval = 1e-300",
+    "velocity = [nan, 0.0]",
+    "[[cracks]]\npoints = [[0.0, 0.0], [inf, 1.0]]",
+    "[[cracks]]\npoints = [[1.0, 1.0], [1.0, 1.0]]",
+    "[[bodies]]\nmaterial = \"x\"\nshape = { disk = { center = [nan, 0.0], radius = 1.0 } }",
+    "[output]\nhistory_interval = 5e-324",
+    "particles_per_cell = 8",
+    "cell = [1e-6, 1e-6]",
+    "size = [1e7, 1e7]",
 ];
 
 /// Byte offsets of the number tokens of a text.
@@ -231,7 +289,10 @@ fn mutated_scenes_never_panic_hang_or_allocate_without_bound() {
                 }
             }
             assert!(took < 10.0, "mutation {i} of {name} took {took:.1} s:\n{text}");
-            assert!((peak as f64) < 3.0 * LIMIT, "mutation {i} of {name} allocated {peak} bytes (limit {LIMIT}):\n{text}");
+            assert!(
+                (peak as f64) < 3.0 * LIMIT,
+                "mutation {i} of {name} allocated {peak} bytes (limit {LIMIT}):\n{text}"
+            );
             if took > slowest.0 {
                 slowest = (took, i);
             }
@@ -249,7 +310,9 @@ fn mutated_scenes_never_panic_hang_or_allocate_without_bound() {
                 peak as f64 / 1e6
             );
         }
-        Err(mpsc::RecvTimeoutError::Timeout) => panic!("the fuzz loop hung for {deadline:?} at {}", current.lock().unwrap()),
+        Err(mpsc::RecvTimeoutError::Timeout) => {
+            panic!("the fuzz loop hung for {deadline:?} at {}", current.lock().unwrap())
+        }
         Err(mpsc::RecvTimeoutError::Disconnected) => {
             let e = worker.join().unwrap_err();
             std::panic::resume_unwind(e);

@@ -49,10 +49,11 @@ static GLOBAL: Peak = Peak;
 fn the_estimate_bounds_the_peak_memory_of_build_and_steps() {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("verification");
-    let mut scenes: Vec<(String, Scene)> = ["vibrating_bar", "demo", "crack_patch_full", "cracked_disks", "dcb_perf", "squashed_disk", "delrin_impact"]
-        .iter()
-        .map(|name| (name.to_string(), Scene::from_file(&dir.join(format!("{name}.toml"))).unwrap()))
-        .collect();
+    let mut scenes: Vec<(String, Scene)> =
+        ["vibrating_bar", "demo", "crack_patch_full", "cracked_disks", "dcb_perf", "squashed_disk", "delrin_impact"]
+            .iter()
+            .map(|name| (name.to_string(), Scene::from_file(&dir.join(format!("{name}.toml"))).unwrap()))
+            .collect();
     // A large grid around a small body (the nodes dominate), with and without a crack.
     let sparse = |crack: &str| {
         format!(
@@ -62,7 +63,10 @@ fn the_estimate_bounds_the_peak_memory_of_build_and_steps() {
         )
     };
     scenes.push(("sparse grid".into(), Scene::from_toml(&sparse(""), "sparse").unwrap()));
-    scenes.push(("sparse grid, crack".into(), Scene::from_toml(&sparse("[[cracks]]\npoints = [[90.0, 105.0], [110.0, 105.0]]\n"), "sparse").unwrap()));
+    scenes.push((
+        "sparse grid, crack".into(),
+        Scene::from_toml(&sparse("[[cracks]]\npoints = [[90.0, 105.0], [110.0, 105.0]]\n"), "sparse").unwrap(),
+    ));
     for (name, scene) in scenes {
         let estimate = scene.memory_estimate();
         let peak = pool.install(|| {

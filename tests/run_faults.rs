@@ -76,10 +76,23 @@ fn an_error_at_step_n_leaves_the_history_up_to_n_and_a_summary_saying_so() {
     let dir = scratch("failed");
     let out = dir.join("out");
     let scene = Scene::from_toml(FLYING, "flying").unwrap();
-    let e = format!("{:#}", run_scene(&scene, &RunOptions { out_dir: Some(out.clone()), ..Default::default() }).unwrap_err());
+    let e = format!(
+        "{:#}",
+        run_scene(&scene, &RunOptions { out_dir: Some(out.clone()), ..Default::default() }).unwrap_err()
+    );
     // "… step N: particle … is outside the grid"
-    let n: u64 = e.split("step ").nth(2).and_then(|t| t.split(':').next()).and_then(|t| t.parse().ok()).unwrap_or_else(|| panic!("{e}"));
-    assert!(e.contains("is outside the grid") && e.contains(&format!("the run stopped after step {}", n - 1)) && e.contains("status \"failed\""), "{e}");
+    let n: u64 = e
+        .split("step ")
+        .nth(2)
+        .and_then(|t| t.split(':').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{e}"));
+    assert!(
+        e.contains("is outside the grid")
+            && e.contains(&format!("the run stopped after step {}", n - 1))
+            && e.contains("status \"failed\""),
+        "{e}"
+    );
     assert!(n > 5, "{e}");
     let s = summary(&out);
     assert_eq!(s["status"], "failed");
@@ -92,13 +105,21 @@ fn an_error_at_step_n_leaves_the_history_up_to_n_and_a_summary_saying_so() {
     assert_eq!(history.rows.last().unwrap()[0].parse::<f64>().unwrap(), s["end_time"].as_f64().unwrap());
     assert_eq!(s["final_energies"]["time"], s["end_time"]);
     // A snapshot per completed step, and the binary exits 1 with the same story.
-    assert!(out.join(format!("particles_{:05}.vtk", n - 1)).exists() && !out.join(format!("particles_{n:05}.vtk")).exists());
+    assert!(
+        out.join(format!("particles_{:05}.vtk", n - 1)).exists() && !out.join(format!("particles_{n:05}.vtk")).exists()
+    );
     let scene_file = dir.join("flying.toml");
     std::fs::write(&scene_file, FLYING).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_cramp")).args(["run", scene_file.to_str().unwrap(), "--out", dir.join("bin").to_str().unwrap()]).output().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_cramp"))
+        .args(["run", scene_file.to_str().unwrap(), "--out", dir.join("bin").to_str().unwrap()])
+        .output()
+        .unwrap();
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains(&format!("the run stopped after step {}", n - 1)) && stderr.contains("outside the grid"), "{stderr}");
+    assert!(
+        stderr.contains(&format!("the run stopped after step {}", n - 1)) && stderr.contains("outside the grid"),
+        "{stderr}"
+    );
     assert_eq!(summary(&dir.join("bin"))["status"], "failed");
     std::fs::remove_dir_all(dir).ok();
 }
@@ -109,7 +130,8 @@ fn a_stop_request_ends_the_run_at_the_end_of_a_step() {
     let mut scene = Scene::from_toml(FLYING, "flying").unwrap();
     scene.bodies[0].velocity = [0.0, 0.0];
     let stop = Arc::new(AtomicBool::new(true));
-    let r = run_scene(&scene, &RunOptions { out_dir: Some(dir.join("out")), stop: Some(stop), ..Default::default() }).unwrap();
+    let r = run_scene(&scene, &RunOptions { out_dir: Some(dir.join("out")), stop: Some(stop), ..Default::default() })
+        .unwrap();
     assert_eq!((r.summary.status, r.summary.steps), (RunStatus::Interrupted, 1));
     let s = summary(&dir.join("out"));
     assert_eq!((s["status"].as_str(), s["steps"].as_u64()), (Some("interrupted"), Some(1)));
@@ -176,7 +198,8 @@ fn sigterm_and_sigint_stop_the_run_with_consistent_files() {
         let cracks = read_csv(&out.join("cracks.csv")).unwrap();
         assert_eq!(cracks.rows.len(), rows - 1);
         assert!(compare_runs(&out, &out, Tolerance::default()).unwrap().agree());
-        let names: Vec<String> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        let names: Vec<String> =
+            std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
         assert!(!names.iter().any(|n| n.ends_with(".tmp")), "{names:?}");
     }
     std::fs::remove_dir_all(dir).ok();
@@ -204,7 +227,11 @@ fn a_rerun_into_an_old_directory_is_refused_unless_forced() {
     std::fs::write(&scene, &text).unwrap();
     let out = dir.join("out");
     let run = |extra: &[&str]| {
-        let o = Command::new(env!("CARGO_BIN_EXE_cramp")).args(["run", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]).args(extra).output().unwrap();
+        let o = Command::new(env!("CARGO_BIN_EXE_cramp"))
+            .args(["run", scene.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap();
         (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
     };
     assert_eq!(run(&[]).0, Some(0));
@@ -225,9 +252,18 @@ fn a_rerun_into_an_old_directory_is_refused_unless_forced() {
     assert_eq!(summary(&out)["steps"].as_u64(), Some(5));
     // The same for `cramp fea`.
     let fea = |extra: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_cramp")).args(["fea", scene.to_str().unwrap(), "--out", dir.join("fea").to_str().unwrap()]).args(extra).output().unwrap().status.code()
+        Command::new(env!("CARGO_BIN_EXE_cramp"))
+            .args(["fea", scene.to_str().unwrap(), "--out", dir.join("fea").to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap()
+            .status
+            .code()
     };
-    let fixed = text.replace("[[bodies]]", "[[boundary]]\nnodes = { line = { from = [0.5, 0.4], to = [0.7, 0.4] } }\nvx = 0.0\nvy = 0.0\n\n[[bodies]]");
+    let fixed = text.replace(
+        "[[bodies]]",
+        "[[boundary]]\nnodes = { line = { from = [0.5, 0.4], to = [0.7, 0.4] } }\nvx = 0.0\nvy = 0.0\n\n[[bodies]]",
+    );
     std::fs::write(&scene, fixed).unwrap();
     assert_eq!(fea(&[]), Some(0));
     assert_eq!(fea(&[]), Some(1));
@@ -240,7 +276,8 @@ fn a_rerun_into_an_old_directory_is_refused_unless_forced() {
 fn a_closed_stdout_is_not_a_panic() {
     let dir = scratch("pipe");
     let scene = dir.join("s.toml");
-    std::fs::write(&scene, FLYING.replace("velocity = [10.0, 0.0]", "").replace("end_time = 1.0", "end_time = 0.005")).unwrap();
+    std::fs::write(&scene, FLYING.replace("velocity = [10.0, 0.0]", "").replace("end_time = 1.0", "end_time = 0.005"))
+        .unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_cramp"))
         .args(["run", scene.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()])
         .stdout(std::process::Stdio::piped())

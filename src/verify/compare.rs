@@ -172,7 +172,11 @@ impl Comparison {
         s += "field\tcompared\tviolations\tmax_abs\tmax_abs_at\tmax_rel\tmax_rel_at\n";
         let or_dash = |s: &str| if s.is_empty() { "-".to_string() } else { s.to_string() };
         for f in &self.fields {
-            let (max_abs, max_rel) = if f.text { ("text".to_string(), "-".to_string()) } else { (format!("{:e}", f.max_abs), format!("{:e}", f.max_rel)) };
+            let (max_abs, max_rel) = if f.text {
+                ("text".to_string(), "-".to_string())
+            } else {
+                (format!("{:e}", f.max_abs), format!("{:e}", f.max_rel))
+            };
             s += &format!(
                 "{}\t{}\t{}\t{max_abs}\t{}\t{max_rel}\t{}\n",
                 f.field,
@@ -239,7 +243,13 @@ fn numbers(csv: &Csv, c: usize, path: &Path) -> anyhow::Result<Vec<f64>> {
         .enumerate()
         .map(|(r, row)| {
             row[c].parse::<f64>().with_context(|| {
-                format!("{} line {}, column '{}': '{}' is not a number", path.display(), csv.lines[r], csv.columns[c], row[c])
+                format!(
+                    "{} line {}, column '{}': '{}' is not a number",
+                    path.display(),
+                    csv.lines[r],
+                    csv.columns[c],
+                    row[c]
+                )
             })
         })
         .collect()
