@@ -19,10 +19,12 @@
 //! * [`fea`] — the static Q4 finite-element solver used for comparison.
 //! * [`scene`] — TOML scene input and validation (2D); [`scene3d`] — 3D scenes, and the
 //!   dimension of a scene file; [`stl`] — closed STL surfaces for 3D bodies.
+//! * [`budget`] — the memory a scene needs, checked before it is built.
 //! * [`output`] — history CSV, summary JSON, VTK snapshots.
 //! * [`report`] — plots and the report index.
 //! * [`verify`] — the verification cases, `cramp verify` and `cramp compare`.
 
+pub mod budget;
 pub mod check;
 pub mod contact;
 pub mod crack;

@@ -1,13 +1,15 @@
 //! The `cramp` command.
 
 use clap::{Parser, Subcommand};
-use cramp::output::{run_scene, RunOptions};
+use cramp::output::{prepare_out_dir, run_scene, RunOptions, RunStatus};
 use cramp::scene::{Scene, DEFAULT_SCENE};
 use cramp::scene3d::{AnyScene, Scene3};
 use cramp::verify::{self, compare, Variant};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 #[derive(Parser)]
 #[command(
@@ -34,10 +36,14 @@ enum Command {
         /// Switch the invariant checks off for speed (overrides solver.checked).
         #[arg(long)]
         unchecked: bool,
-        /// Worker threads (default: all cores, or RAYON_NUM_THREADS). Results are
-        /// bit-identical for any number.
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        /// Worker threads, 1 to 1024 (default: all cores, or RAYON_NUM_THREADS). Results
+        /// are bit-identical for any number; more than the cores only adds overhead.
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_THREADS as i64))]
         threads: Option<u32>,
+        /// If the output directory holds an earlier run's files, delete those (cramp's own
+        /// files only) instead of refusing to run.
+        #[arg(long)]
+        force: bool,
     },
     /// Run the verification cases: a table on stdout, reports/index.md with plots,
     /// reports/results.json; exit status 1 if any case fails.
@@ -68,7 +74,8 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         atol: f64,
     },
-    /// Run the embedded demo scene (two colliding disks) into out/demo/.
+    /// Run the embedded demo scene (two colliding disks) into out/demo/ (replacing an
+    /// earlier demo run there).
     Demo,
     /// Solve a scene statically with the Q4 FEA: fea.vtk, fea_gauss.vtk, fea_nodes.csv,
     /// probe CSVs and fea_summary.json (J, K per crack tip) in --out.
@@ -78,18 +85,45 @@ enum Command {
         /// Output directory (default: out/<scene name>-fea).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// If the output directory holds an earlier run's files, delete those (cramp's own
+        /// files only) instead of refusing to run.
+        #[arg(long)]
+        force: bool,
     },
+}
+
+/// Print to stdout. A closed stdout (`cramp run … | head -1`) loses the text, which nobody
+/// reads, rather than panicking as `print!` does.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// [`out!`] with a newline.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
 }
 
 /// Exit status of `cramp compare` when the runs cannot be compared (bad input).
 const EXIT_BAD_INPUT: u8 = 2;
 
+/// Exit status of a run stopped by SIGINT or SIGTERM (128 + SIGINT, the shell's convention).
+const EXIT_INTERRUPTED: u8 = 130;
+
+/// Upper bound of `--threads`: more OS threads than this only costs memory and start-up.
+const MAX_THREADS: u32 = 1024;
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Some(Command::Run { scene, out, unchecked, threads }) => set_threads(threads).and_then(|()| run(scene, out, unchecked)).map(|()| ExitCode::SUCCESS),
-        Some(Command::Fea { scene, out }) => fea(scene, out).map(|()| ExitCode::SUCCESS),
-        Some(Command::Demo) => run_demo().map(|()| ExitCode::SUCCESS),
+        Some(Command::Run { scene, out, unchecked, threads, force }) => set_threads(threads).and_then(|()| run(scene, out, unchecked, force)),
+        Some(Command::Fea { scene, out, force }) => fea(scene, out, force).map(|()| ExitCode::SUCCESS),
+        Some(Command::Demo) => run_demo(),
         Some(Command::Verify { quick, out, list, cases }) => {
             if list {
                 list_cases()
@@ -99,7 +133,7 @@ fn main() -> ExitCode {
         }
         Some(Command::Compare { run_a, run_b, rtol, atol }) => match compare::compare_runs(&run_a, &run_b, compare::Tolerance { rtol, atol }) {
             Ok(c) => {
-                print!("{}", c.render());
+                out!("{}", c.render());
                 Ok(if c.agree() { ExitCode::SUCCESS } else { ExitCode::FAILURE })
             }
             Err(e) => {
@@ -126,7 +160,7 @@ fn list_cases() -> anyhow::Result<ExitCode> {
     for name in verify::case_names() {
         let c = m.case(name);
         let suite = if c.map(|c| c.quick.is_some()).unwrap_or(false) { "quick+full" } else { "full only " };
-        println!("{name:<18} {suite}  {}", c.map(|c| c.title.as_str()).unwrap_or("(no manifest entry)"));
+        outln!("{name:<18} {suite}  {}", c.map(|c| c.title.as_str()).unwrap_or("(no manifest entry)"));
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -143,13 +177,13 @@ fn run_verify(variant: Variant, out: &Path, names: &[String]) -> anyhow::Result<
         results.push(r);
     }
     let total = start.elapsed().as_secs_f64();
-    println!("{}", verify::report::text_table(&results));
+    outln!("{}", verify::report::text_table(&results));
     let problems = verify::report::write_report(out, &results, variant, total)?;
     for p in &problems {
         eprintln!("warning: {p}");
     }
     let failed: Vec<&str> = results.iter().filter(|r| !r.passed).map(|r| r.name.as_str()).collect();
-    println!(
+    outln!(
         "{} of {} cases passed in {total:.1} s; report in {}",
         results.len() - failed.len(),
         results.len(),
@@ -158,7 +192,7 @@ fn run_verify(variant: Variant, out: &Path, names: &[String]) -> anyhow::Result<
     if failed.is_empty() {
         Ok(ExitCode::SUCCESS)
     } else {
-        println!("FAILED: {}", failed.join(", "));
+        outln!("FAILED: {}", failed.join(", "));
         Ok(ExitCode::FAILURE)
     }
 }
@@ -166,43 +200,117 @@ fn run_verify(variant: Variant, out: &Path, names: &[String]) -> anyhow::Result<
 /// Size the global thread pool (before any parallel work).
 fn set_threads(threads: Option<u32>) -> anyhow::Result<()> {
     if let Some(n) = threads {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        if n as usize > cores {
+            eprintln!("warning: --threads {n} is more than the {cores} core(s) of this machine: the results are the same, the run slower");
+        }
         rayon::ThreadPoolBuilder::new().num_threads(n as usize).build_global()?;
     }
     Ok(())
 }
 
-fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool) -> anyhow::Result<()> {
+fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool, force: bool) -> anyhow::Result<ExitCode> {
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(stem));
     match AnyScene::from_file(&scene_path)? {
-        AnyScene::D2(scene) => execute(&scene, out, unchecked),
-        AnyScene::D3(scene) => execute_3d(&scene, out, unchecked),
+        AnyScene::D2(scene) => execute(&scene, out, unchecked, force),
+        AnyScene::D3(scene) => execute_3d(&scene, out, unchecked, force),
     }
 }
 
-fn fea(scene_path: PathBuf, out: Option<PathBuf>) -> anyhow::Result<()> {
+fn fea(scene_path: PathBuf, out: Option<PathBuf>, force: bool) -> anyhow::Result<()> {
     let scene = match AnyScene::from_file(&scene_path)? {
         AnyScene::D2(scene) => scene,
         AnyScene::D3(_) => anyhow::bail!("`cramp fea` solves 2D scenes only; {} is a 3D scene (grid.cell has 3 components). The 3D FEA is not built yet (issue 18)", scene_path.display()),
     };
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-fea")));
-    print!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text());
+    prepare_out_dir(&out, force)?;
+    out!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text());
     Ok(())
 }
 
-fn run_demo() -> anyhow::Result<()> {
+fn run_demo() -> anyhow::Result<ExitCode> {
     let scene = Scene::from_toml(DEFAULT_SCENE, "embedded demo scene")?;
     eprintln!("cramp: running the embedded demo scene ({}).", scene.title);
-    execute(&scene, PathBuf::from("out/demo"), false)
+    execute(&scene, PathBuf::from("out/demo"), false, true)
 }
 
-fn execute_3d(scene: &Scene3, out: PathBuf, unchecked: bool) -> anyhow::Result<()> {
-    let opts = RunOptions { out_dir: Some(out.clone()), progress: std::io::stderr().is_terminal(), checked: unchecked.then_some(false) };
+/// The first SIGINT or SIGTERM (or SIGQUIT) sets the returned flag, which stops the run at
+/// the end of its current step; a second one ends the process at once (exit status 130).
+///
+/// signal-hook (rather than ctrlc) because its `flag` module is exactly this pattern — an
+/// `AtomicBool` the handler sets, polled between steps, with no thread and no handler code
+/// of ours running in signal context — and `register_conditional_shutdown` gives the
+/// "second signal exits" behaviour without extra state; it is the crate tokio and ctrlc's
+/// peers build on, and adds one small dependency (signal-hook-registry).
+fn stop_on_signals() -> anyhow::Result<Arc<AtomicBool>> {
+    let stop = Arc::new(AtomicBool::new(false));
+    for &signal in signal_hook::consts::TERM_SIGNALS {
+        // The shutdown is registered first so that it acts only once `stop` is already set.
+        signal_hook::flag::register_conditional_shutdown(signal, EXIT_INTERRUPTED as i32, Arc::clone(&stop))?;
+        signal_hook::flag::register(signal, Arc::clone(&stop))?;
+    }
+    Ok(stop)
+}
+
+fn execute(scene: &Scene, out: PathBuf, unchecked: bool, force: bool) -> anyhow::Result<ExitCode> {
+    for w in cramp::output::output_intervals(scene, scene.time_step()).warnings {
+        eprintln!("warning: {w}");
+    }
+    let opts = RunOptions {
+        out_dir: Some(out.clone()),
+        progress: std::io::stderr().is_terminal(),
+        checked: unchecked.then_some(false),
+        force,
+        stop: Some(stop_on_signals()?),
+    };
+
+    let r = run_scene(scene, &opts)?;
+    let s = &r.summary;
+    let e = &s.final_energies;
+    outln!(
+        "{}: {} particles, {} steps of dt = {:.4e} to t = {:.4e} in {:.3} s ({:.3e} particle-steps/s, {} thread{}{})",
+        if scene.title.is_empty() { "scene" } else { &scene.title },
+        s.particles,
+        s.steps,
+        s.dt,
+        s.end_time,
+        s.wall_time_s,
+        s.particle_steps_per_second,
+        s.threads,
+        if s.threads == 1 { "" } else { "s" },
+        if s.checked { ", checked" } else { "" }
+    );
+    outln!(
+        "final energies: kinetic {:.6e}, strain {:.6e}, external work {:.6e}, damping {:.6e}, total {:.6e}",
+        e.kinetic, e.strain, e.external_work, e.damping, e.total
+    );
+    outln!("outputs in {}", out.display());
+    if s.status == RunStatus::Interrupted {
+        eprintln!(
+            "cramp: interrupted after step {} (t = {:e}); the outputs up to then and summary.json (status \"interrupted\") are in {}",
+            s.steps,
+            s.end_time,
+            out.display()
+        );
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn execute_3d(scene: &Scene3, out: PathBuf, unchecked: bool, force: bool) -> anyhow::Result<ExitCode> {
+    let opts = RunOptions {
+        out_dir: Some(out.clone()),
+        progress: std::io::stderr().is_terminal(),
+        checked: unchecked.then_some(false),
+        force,
+        stop: Some(stop_on_signals()?),
+    };
     let r = cramp::output::three_d::run_scene_3d(scene, &opts)?;
     let s = &r.summary;
     let e = &s.final_energies;
-    println!(
+    outln!(
         "{} (3D): {} particles, {} nodes, {} steps of dt = {:.4e} to t = {:.4e} in {:.3} s ({:.3e} particle-steps/s, {} thread{}{})",
         if scene.title.is_empty() { "scene" } else { &scene.title },
         s.particles,
@@ -216,36 +324,14 @@ fn execute_3d(scene: &Scene3, out: PathBuf, unchecked: bool) -> anyhow::Result<(
         if s.threads == 1 { "" } else { "s" },
         if s.checked { ", checked" } else { "" }
     );
-    println!(
+    outln!(
         "final energies: kinetic {:.6e}, strain {:.6e}, external work {:.6e}, damping {:.6e}, total {:.6e}",
         e.kinetic, e.strain, e.external_work, e.damping, e.total
     );
-    println!("outputs in {}", out.display());
-    Ok(())
-}
-
-fn execute(scene: &Scene, out: PathBuf, unchecked: bool) -> anyhow::Result<()> {
-    let opts = RunOptions { out_dir: Some(out.clone()), progress: std::io::stderr().is_terminal(), checked: unchecked.then_some(false) };
-    let r = run_scene(scene, &opts)?;
-    let s = &r.summary;
-    let e = &s.final_energies;
-    println!(
-        "{}: {} particles, {} steps of dt = {:.4e} to t = {:.4e} in {:.3} s ({:.3e} particle-steps/s, {} thread{}{})",
-        if scene.title.is_empty() { "scene" } else { &scene.title },
-        s.particles,
-        s.steps,
-        s.dt,
-        s.end_time,
-        s.wall_time_s,
-        s.particle_steps_per_second,
-        s.threads,
-        if s.threads == 1 { "" } else { "s" },
-        if s.checked { ", checked" } else { "" }
-    );
-    println!(
-        "final energies: kinetic {:.6e}, strain {:.6e}, external work {:.6e}, damping {:.6e}, total {:.6e}",
-        e.kinetic, e.strain, e.external_work, e.damping, e.total
-    );
-    println!("outputs in {}", out.display());
-    Ok(())
+    outln!("outputs in {}", out.display());
+    if s.status == RunStatus::Interrupted {
+        eprintln!("cramp: interrupted after step {} (t = {:e}); outputs and summary.json (status \"interrupted\") are in {}", s.steps, s.end_time, out.display());
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -100,7 +100,15 @@ pub struct SolverSpec {
     /// visibility, the alternative Nairn 2003 §3.1 compares with).
     #[serde(default)]
     pub crack_method: CrackMethod,
+    /// Largest number of time steps the run may take (default [`DEFAULT_MAX_STEPS`]): a
+    /// scene needing more is refused, so a typo in end_time or dt cannot start a run of
+    /// years. Raise it to allow a longer run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_steps: Option<u64>,
 }
+
+/// Default of `solver.max_steps`: 10⁸ steps (days of run time for a few thousand particles).
+pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
 
 fn default_scheme() -> Scheme {
     Scheme::Usavg
@@ -341,6 +349,18 @@ fn v(a: [f64; 2]) -> Vector {
 }
 
 impl ShapeSpec {
+    /// The axis-aligned bounding box (min, max) of the shape.
+    pub fn bounds(&self) -> (Vector, Vector) {
+        match self {
+            ShapeSpec::Rectangle { min, max } => (v(*min), v(*max)),
+            ShapeSpec::Disk { center, radius } => (v(*center) - Vector::new(*radius, *radius), v(*center) + Vector::new(*radius, *radius)),
+            ShapeSpec::Polygon { points } => points.iter().fold(
+                (Vector::new(f64::INFINITY, f64::INFINITY), Vector::new(f64::NEG_INFINITY, f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.inf(&v(*p)), hi.sup(&v(*p))),
+            ),
+        }
+    }
+
     pub fn contains(&self, x: &Vector) -> bool {
         match self {
             ShapeSpec::Rectangle { min, max } => x.x >= min[0] && x.x <= max[0] && x.y >= min[1] && x.y <= max[1],
@@ -397,6 +417,25 @@ fn finite(field: &str, x: f64) -> Result<(), SceneError> {
         Ok(())
     } else {
         Err(invalid(field, format!("must be a finite number, got {x}")))
+    }
+}
+
+/// Every component of a point or vector finite; the error names the component.
+fn finite_all(field: &str, xs: &[f64]) -> Result<(), SceneError> {
+    xs.iter().enumerate().try_for_each(|(c, &x)| finite(&format!("{field}[{c}]"), x))
+}
+
+/// Every point of a selection finite.
+fn finite_selection(field: &str, sel: &Selection) -> Result<(), SceneError> {
+    match sel {
+        Selection::Region { min, max } => {
+            finite_all(&format!("{field}.region.min"), min)?;
+            finite_all(&format!("{field}.region.max"), max)
+        }
+        Selection::Line { from, to } => {
+            finite_all(&format!("{field}.line.from"), from)?;
+            finite_all(&format!("{field}.line.to"), to)
+        }
     }
 }
 
@@ -486,6 +525,7 @@ impl Scene {
         if self.bodies.is_empty() {
             return Err(invalid("bodies", "at least one body is required"));
         }
+        let (lo, hi) = (v(g.origin), v(g.origin) + v(g.size));
         for (i, b) in self.bodies.iter().enumerate() {
             let f = |n: &str| format!("bodies[{i}].{n}");
             if !self.materials.iter().any(|m| m.name == b.material) {
@@ -494,40 +534,82 @@ impl Scene {
             positive(&f("thickness"), b.thickness)?;
             match &b.shape {
                 ShapeSpec::Rectangle { min, max } => {
+                    finite_all(&f("shape.rectangle.min"), min)?;
+                    finite_all(&f("shape.rectangle.max"), max)?;
                     if !(max[0] > min[0] && max[1] > min[1]) {
                         return Err(invalid(f("shape.rectangle"), format!("max {max:?} must exceed min {min:?} in both directions")));
                     }
                 }
-                ShapeSpec::Disk { radius, .. } => positive(&f("shape.disk.radius"), *radius)?,
+                ShapeSpec::Disk { center, radius } => {
+                    finite_all(&f("shape.disk.center"), center)?;
+                    positive(&f("shape.disk.radius"), *radius)?;
+                }
                 ShapeSpec::Polygon { points } => {
                     if points.len() < 3 {
                         return Err(invalid(f("shape.polygon.points"), format!("a polygon needs at least 3 points, got {}", points.len())));
                     }
+                    for (k, q) in points.iter().enumerate() {
+                        finite_all(&f(&format!("shape.polygon.points[{k}]")), q)?;
+                    }
                 }
+            }
+            let (bmin, bmax) = b.shape.bounds();
+            if bmax.x < lo.x || bmax.y < lo.y || bmin.x > hi.x || bmin.y > hi.y {
+                return Err(invalid(f("shape"), format!("lies entirely outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
+            }
+            finite_all(&f("velocity"), &b.velocity)?;
+            finite_all(&f("body_force"), &b.body_force)?;
+            if let Some(sv) = &b.velocity_sine {
+                finite_all(&f("velocity_sine.amplitude"), &sv.amplitude)?;
+                finite_all(&f("velocity_sine.k"), &sv.k)?;
+                finite_all(&f("velocity_sine.origin"), &sv.origin)?;
             }
         }
         for (i, b) in self.boundary.iter().enumerate() {
             if b.vx.is_none() && b.vy.is_none() {
                 return Err(invalid(format!("boundary[{i}]"), "fixes nothing: give vx and/or vy"));
             }
+            for (key, value) in [("vx", b.vx), ("vy", b.vy)] {
+                if let Some(x) = value {
+                    finite(&format!("boundary[{i}].{key}"), x)?;
+                }
+            }
+            finite_selection(&format!("boundary[{i}].nodes"), &b.nodes)?;
         }
         for (i, l) in self.loads.iter().enumerate() {
-            finite(&format!("loads[{i}].force[0]"), l.force[0])?;
-            finite(&format!("loads[{i}].force[1]"), l.force[1])?;
-            if l.ramp.is_nan() || l.ramp < 0.0 {
-                return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive, got {}", l.ramp)));
+            finite_all(&format!("loads[{i}].force"), &l.force)?;
+            finite_selection(&format!("loads[{i}].particles"), &l.particles)?;
+            if !(l.ramp.is_finite() && l.ramp >= 0.0) {
+                return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive (and finite), got {}", l.ramp)));
             }
         }
         for (i, c) in self.cracks.iter().enumerate() {
             if c.points.len() < 2 {
                 return Err(invalid(format!("cracks[{i}].points"), format!("a crack needs at least 2 points, got {}", c.points.len())));
             }
+            let tol = 1e-9 * g.cell[0].min(g.cell[1]);
+            for (k, q) in c.points.iter().enumerate() {
+                let field = format!("cracks[{i}].points[{k}]");
+                finite_all(&field, q)?;
+                if q[0] < lo.x - tol || q[1] < lo.y - tol || q[0] > hi.x + tol || q[1] > hi.y + tol {
+                    return Err(invalid(field, format!("{q:?} lies outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
+                }
+                if k > 0 && c.points[k - 1] == *q {
+                    return Err(invalid(field, format!("repeats point {} {q:?}: a crack segment must have a length", k - 1)));
+                }
+            }
+            finite(&format!("cracks[{i}].v_sep"), c.v_sep)?;
+            finite(&format!("cracks[{i}].v_contact"), c.v_contact)?;
             if !(c.v_sep > 0.0 && c.v_sep < c.v_contact) {
                 return Err(invalid(format!("cracks[{i}].v_sep"), format!("need 0 < v_sep < v_contact, got v_sep = {}, v_contact = {}", c.v_sep, c.v_contact)));
             }
             if let Some(fr) = &c.fracture {
                 if fr.contour == 0 {
                     return Err(invalid(format!("cracks[{i}].fracture.contour"), "must be at least 1 (cells from the node nearest the tip)"));
+                }
+                let cells = (g.size[0] / g.cell[0]).max(g.size[1] / g.cell[1]).round();
+                if fr.contour as f64 > cells {
+                    return Err(invalid(format!("cracks[{i}].fracture.contour"), format!("{} cells is more than the grid has ({cells} cells a side)", fr.contour)));
                 }
                 if let Some(gr) = &fr.growth {
                     let f = |n: &str| format!("cracks[{i}].fracture.growth.{n}");
@@ -558,7 +640,6 @@ impl Scene {
                 ));
             }
         }
-        let (lo, hi) = (v(g.origin), v(g.origin) + v(g.size));
         for (i, p) in self.probes.iter().enumerate() {
             let f = |n: &str| format!("probes[{i}].{n}");
             if p.name.is_empty() || !p.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
@@ -581,6 +662,54 @@ impl Scene {
             if !(2..=100_000).contains(&p.points) {
                 return Err(invalid(f("points"), format!("must be 2 to 100000 (both ends are sampled), got {}", p.points)));
             }
+        }
+        self.validate_time_step()
+    }
+
+    /// The time step must advance time and the run must end in a sane number of steps:
+    /// dt positive and finite (an overflowing wave speed gives 0), end_time at least half
+    /// a step (a run of 0 steps is a mistake), at most `solver.max_steps` steps, and the
+    /// explicit damping κΔt below 1 (above, −κp removes more than the momentum in one step).
+    fn validate_time_step(&self) -> Result<(), SceneError> {
+        let s = &self.solver;
+        let dt = self.time_step();
+        let dt_field = if s.dt.is_some() { "solver.dt" } else { "solver.cfl" };
+        if !(dt > 0.0 && dt.is_finite()) {
+            let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
+            // The fastest material (a NaN speed, from inf/inf, sorts above every number).
+            let (k, c) = speeds.iter().copied().enumerate().max_by(|a, b| a.1.total_cmp(&b.1)).unwrap_or((0, 0.0));
+            let m = &self.materials[k];
+            return Err(invalid(
+                format!("materials[{k}]"),
+                format!("E = {:e} and rho = {:e} give a dilatational wave speed of {c:e}, so the time step cfl × cell / c_d is {dt:e}; use values whose ratio is a finite number", m.e, m.rho),
+            ));
+        }
+        let steps = (s.end_time / dt - 0.5).ceil();
+        if steps < 1.0 {
+            return Err(invalid("solver.end_time", format!("{:e} is shorter than half the time step dt = {dt:e}: the run would take no step", s.end_time)));
+        }
+        let max_steps = s.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
+        if steps > max_steps as f64 {
+            return Err(invalid(
+                "solver.end_time",
+                format!(
+                    "{:e} takes {steps:e} steps of dt = {dt:e} ({dt_field}), more than solver.max_steps = {max_steps}; \
+                     check end_time and the time step, or raise solver.max_steps to allow the run",
+                    s.end_time
+                ),
+            ));
+        }
+        if s.damping * dt >= 1.0 {
+            return Err(invalid(
+                "solver.damping",
+                format!(
+                    "κ = {:e} with dt = {dt:e} gives κ·dt = {:e} ≥ 1: the explicit damping force −κp would remove more than \
+                     the whole momentum in one step; use κ < 1/dt = {:e}",
+                    s.damping,
+                    s.damping * dt,
+                    1.0 / dt
+                ),
+            ));
         }
         Ok(())
     }
@@ -611,6 +740,7 @@ impl Scene {
     /// Fill the bodies with particles, resolve loads and boundary conditions onto
     /// particles and nodes, and assemble the simulation.
     pub fn build(&self) -> Result<Simulation, SceneError> {
+        self.check_memory(crate::budget::memory_limit())?;
         let grid = self.grid();
         let mats = self.materials();
         let n = self.solver.particles_per_cell;
@@ -618,10 +748,12 @@ impl Scene {
         let sub = Vector::new(grid.h.x / n as f64, grid.h.y / n as f64);
         let lp = sub * 0.5;
         // Cells in order, particles within a cell in order; a point claimed by an earlier
-        // body is not filled again (first body wins).
+        // body is not filled again (first body wins). Only the cells the bodies' boxes
+        // touch are visited.
         let mut owner: Vec<Vec<Vector>> = vec![Vec::new(); self.bodies.len()];
-        for iy in 0..grid.ny {
-            for ix in 0..grid.nx {
+        let [(ix0, ix1), (iy0, iy1)] = self.body_cells(&grid);
+        for iy in iy0..iy1 {
+            for ix in ix0..ix1 {
                 for b in 0..n {
                     for a in 0..n {
                         let x = Vector::new(
@@ -656,14 +788,8 @@ impl Scene {
         let lo = grid.origin;
         let hi = grid.max_corner();
         for (k, body) in self.bodies.iter().enumerate() {
-            let outside = match &body.shape {
-                ShapeSpec::Rectangle { min, max } => min[0] < lo.x || min[1] < lo.y || max[0] > hi.x || max[1] > hi.y,
-                ShapeSpec::Disk { center, radius } => {
-                    center[0] - radius < lo.x || center[1] - radius < lo.y || center[0] + radius > hi.x || center[1] + radius > hi.y
-                }
-                ShapeSpec::Polygon { points } => points.iter().any(|p| p[0] < lo.x || p[1] < lo.y || p[0] > hi.x || p[1] > hi.y),
-            };
-            if outside {
+            let (bmin, bmax) = body.shape.bounds();
+            if bmin.x < lo.x || bmin.y < lo.y || bmax.x > hi.x || bmax.y > hi.y {
                 return Err(invalid(format!("bodies[{k}].shape"), format!("extends outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
             }
         }
@@ -731,7 +857,52 @@ impl Scene {
         let thickness = self.bodies.iter().map(|b| b.thickness).collect();
         let mut sim = Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options);
         sim.growth = self.growth(&sim);
+        self.check_cracks_against_particles(&sim)?;
         Ok(sim)
+    }
+
+    /// Cell ranges [ix0, ix1) × [iy0, iy1) that hold every particle position of every body:
+    /// the cells the bodies' bounding boxes touch, with a cell of margin for round-off.
+    fn body_cells(&self, grid: &Grid) -> [(usize, usize); 2] {
+        let (mut lo, mut hi) = (Vector::new(f64::INFINITY, f64::INFINITY), Vector::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
+        for b in &self.bodies {
+            let (bmin, bmax) = b.shape.bounds();
+            lo = lo.inf(&bmin);
+            hi = hi.sup(&bmax);
+        }
+        let range = |lo: f64, hi: f64, origin: f64, h: f64, n: usize| {
+            let first = ((lo - origin) / h).floor() - 1.0;
+            let last = ((hi - origin) / h).floor() + 2.0;
+            // NaN-free after validation; `as` saturates, and the clamps keep the range in the grid.
+            ((first.max(0.0) as usize).min(n), (last.max(0.0) as usize).min(n))
+        };
+        [range(lo.x, hi.x, grid.origin.x, grid.h.x, grid.nx), range(lo.y, hi.y, grid.origin.y, grid.h.y, grid.ny)]
+    }
+
+    /// Errors a crack's geometry causes, reported as the scene's fault before the run
+    /// instead of at some later step: a crack passing through a particle (exactly, or
+    /// within 10⁻⁹ of a cell: the particle is on neither side, or on one by round-off, so
+    /// the checked mode may see it "cross" the crack once it moves), and a crack whose `fracture` request cannot be evaluated where it lies (J
+    /// contour outside the grid or crossing the crack more than once, no material at the tip).
+    fn check_cracks_against_particles(&self, sim: &Simulation) -> Result<(), SceneError> {
+        for (c, crack) in sim.cracks.iter().enumerate() {
+            if let Some((p, seg)) = crate::crack::first_particle_on(&crack.points, &sim.particles.x, 1e-9 * sim.grid.min_h()) {
+                let x = sim.particles.x[p];
+                return Err(invalid(
+                    format!("cracks[{c}].points"),
+                    format!(
+                        "the crack passes through the particle at ({:e}, {:e}) of bodies[{}] (crack segment {seg}; within round-off), which is \
+                         then on neither side of it (or on one by round-off only); move the crack off the rows of particles (they lie at the centres of the {} × {} \
+                         sub-cells of each cell), e.g. onto a grid line",
+                        x.x, x.y, sim.particles.body[p], self.solver.particles_per_cell, self.solver.particles_per_cell
+                    ),
+                ));
+            }
+        }
+        if let Err(e) = sim.fracture_parameters(&self.fracture_requests()) {
+            return Err(invalid(format!("cracks[{}].fracture", e.crack()), format!("the crack's geometry does not allow J and K at its tip: {e}")));
+        }
+        Ok(())
     }
 
     /// Crack-growth state for the cracks whose `fracture.growth` is set (None if none is).
@@ -771,11 +942,6 @@ impl Scene {
                 })
             })
             .collect()
-    }
-
-    /// History interval (default end_time / 100).
-    pub fn history_interval(&self) -> f64 {
-        self.output.history_interval.unwrap_or(self.solver.end_time / 100.0)
     }
 }
 

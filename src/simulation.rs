@@ -360,11 +360,26 @@ impl<S: Dimension> Simulation<S> {
     where
         F: FnMut(&Simulation<S>),
     {
+        self.run_until_stopped(end_time, |s| {
+            observe(s);
+            std::ops::ControlFlow::Continue(())
+        })
+        .map(|_| ())
+    }
+
+    /// Advance until `end_time` or until `observe`, called after every step, breaks;
+    /// returns whether it broke before the end time.
+    pub fn run_until_stopped<F>(&mut self, end_time: f64, mut observe: F) -> Result<bool, CheckError>
+    where
+        F: FnMut(&Simulation<S>) -> std::ops::ControlFlow<()>,
+    {
         // Stop within half a step of the end time so round-off in t does not add a step.
         while self.time + 0.5 * self.options.dt < end_time {
             self.step()?;
-            observe(self);
+            if observe(self).is_break() {
+                return Ok(self.time + 0.5 * self.options.dt < end_time);
+            }
         }
-        Ok(())
+        Ok(false)
     }
 }

@@ -333,3 +333,215 @@ fn crack_growth_settings_and_toughness() {
     let sed_negative_nu = with_toughness("").replace("max_hoop_stress", "min_strain_energy").replace("nu = 0.3", "nu = -0.2");
     assert_eq!(invalid_field(&sed_negative_nu), "materials[0].toughness.criterion");
 }
+
+// ---- every kind of bad scene (issue 19) ----------------------------------------------
+
+/// One kind of bad scene: its name, the scene text, the field the error must name and a
+/// phrase it must contain.
+struct Bad {
+    kind: &'static str,
+    text: String,
+    field: &'static str,
+    says: &'static str,
+}
+
+fn bad(kind: &'static str, text: String, field: &'static str, says: &'static str) -> Bad {
+    Bad { kind, text, field, says }
+}
+
+/// The base scene with a crack (TOML table body after `[[cracks]]`).
+fn with_crack(crack: &str) -> String {
+    format!("{BASE}\n[[cracks]]\n{crack}\n")
+}
+
+const TOUGH: &str = "state = \"plane_strain\"\ntoughness = { criterion = \"max_hoop_stress\", kic = 1.0 }";
+
+/// Every kind of bad scene the issue lists, and more: each must be refused while
+/// validating or building, with an error that names the field at fault and says why —
+/// never a panic, a hang, a huge allocation or a misleading message from a later stage.
+fn bad_scenes() -> Vec<Bad> {
+    let rect = "shape = { rectangle = { min = [0.2, 0.2], max = [0.8, 0.6] } }";
+    let shape = |s: &str| edit(rect, &format!("shape = {{ {s} }}"));
+    let solver = |extra: &str| edit("particles_per_cell = 2", &format!("particles_per_cell = 2\n{extra}"));
+    let body = |extra: &str| edit(rect, &format!("{rect}\n{extra}"));
+    let crack = "points = [[0.1, 0.4], [0.5, 0.4]]";
+    let growing = |g: &str| with_crack(&format!("{crack}\nfracture = {{ tips = \"end\", growth = {{ {g} }} }}")).replacen("state = \"plane_strain\"", TOUGH, 1);
+    vec![
+        // grid
+        bad("grid origin NaN", edit("origin = [0.0, 0.0]", "origin = [nan, 0.0]"), "grid.origin[0]", "finite"),
+        bad("grid size infinite", edit("size = [1.0, 1.0]", "size = [inf, 1.0]"), "grid.size[0]", "finite"),
+        bad("grid cell negative", edit("cell = [0.1, 0.1]", "cell = [0.1, -0.1]"), "grid.cell[1]", "positive"),
+        bad("grid cell subnormal", edit("cell = [0.1, 0.1]", "cell = [5e-324, 0.1]"), "grid.size[0]", ""),
+        bad("grid of 1e7 × 1e7 cells", edit("size = [1.0, 1.0]", "size = [1e7, 1e7]").replace("cell = [0.1, 0.1]", "cell = [1.0, 1.0]"), "grid", "the scene needs about"),
+        bad("grid of 1e8 cells a side", edit("cell = [0.1, 0.1]", "cell = [1e-8, 0.1]"), "grid.size[0]", "too many"),
+        // solver
+        bad("end_time shorter than a step", edit("end_time = 0.01", "end_time = 1e-9"), "solver.end_time", "no step"),
+        bad("end_time of 1e12 steps", edit("end_time = 0.01", "end_time = 1e9"), "solver.end_time", "solver.max_steps"),
+        bad("dt tiny", edit("cfl = 0.5", "dt = 1e-300"), "solver.end_time", "solver.max_steps"),
+        bad("dt subnormal", edit("cfl = 0.5", "dt = 5e-324"), "solver.end_time", "solver.max_steps"),
+        bad("dt infinite", edit("cfl = 0.5", "dt = inf"), "solver.dt", "finite"),
+        bad("cfl NaN", edit("cfl = 0.5", "cfl = nan"), "solver.cfl", "finite"),
+        bad("max_steps below the run", solver("max_steps = 3"), "solver.end_time", "solver.max_steps = 3"),
+        bad("wave speed overflows", edit("E = 1000.0", "E = 1e300").replace("rho = 1.0", "rho = 1e-300"), "materials[0]", "wave speed"),
+        bad("damping 1e300", solver("damping = 1e300"), "solver.damping", "κ·dt"),
+        bad("damping NaN", solver("damping = nan"), "solver.damping", "finite"),
+        bad("damping infinite", solver("damping = inf"), "solver.damping", "finite"),
+        bad("particles_per_cell 100", edit("particles_per_cell = 2", "particles_per_cell = 100"), "solver.particles_per_cell", "1 to 8"),
+        // output
+        bad("history interval NaN", format!("{BASE}\n[output]\nhistory_interval = nan\n"), "output.history_interval", "finite"),
+        bad("archive interval negative", format!("{BASE}\n[output]\narchive_interval = -1.0\n"), "output.archive_interval", "positive"),
+        bad("archive interval infinite", format!("{BASE}\n[output]\narchive_interval = inf\n"), "output.archive_interval", "finite"),
+        // materials
+        bad("E NaN", edit("E = 1000.0", "E = nan"), "materials[0].E", "finite"),
+        bad("nu infinite", edit("nu = 0.3", "nu = inf"), "materials[0].nu", "finite"),
+        bad("rho negative", edit("rho = 1.0", "rho = -1.0"), "materials[0].rho", "positive"),
+        bad("toughness kic infinite", growing("").replace("kic = 1.0", "kic = inf"), "materials[0].toughness.kic", "finite"),
+        // bodies
+        bad("velocity NaN", body("velocity = [nan, 0.0]"), "bodies[0].velocity[0]", "finite"),
+        bad("velocity infinite", body("velocity = [0.0, -inf]"), "bodies[0].velocity[1]", "finite"),
+        bad("body force infinite", body("body_force = [0.0, inf]"), "bodies[0].body_force[1]", "finite"),
+        bad("velocity_sine amplitude NaN", body("velocity_sine = { amplitude = [nan, 0.0], k = [1.0, 0.0] }"), "bodies[0].velocity_sine.amplitude[0]", "finite"),
+        bad("velocity_sine k infinite", body("velocity_sine = { amplitude = [1.0, 0.0], k = [inf, 0.0] }"), "bodies[0].velocity_sine.k[0]", "finite"),
+        bad("velocity_sine origin NaN", body("velocity_sine = { amplitude = [1.0, 0.0], k = [1.0, 0.0], origin = [0.0, nan] }"), "bodies[0].velocity_sine.origin[1]", "finite"),
+        bad("thickness zero", body("thickness = 0.0"), "bodies[0].thickness", "positive"),
+        bad("rectangle corner NaN", shape("rectangle = { min = [nan, 0.2], max = [0.8, 0.6] }"), "bodies[0].shape.rectangle.min[0]", "finite"),
+        bad("rectangle corner infinite", shape("rectangle = { min = [0.2, 0.2], max = [inf, 0.6] }"), "bodies[0].shape.rectangle.max[0]", "finite"),
+        bad("disk centre NaN", shape("disk = { center = [nan, 0.5], radius = 0.2 }"), "bodies[0].shape.disk.center[0]", "finite"),
+        bad("disk radius infinite", shape("disk = { center = [0.5, 0.5], radius = inf }"), "bodies[0].shape.disk.radius", "finite"),
+        bad("polygon vertex NaN", shape("polygon = { points = [[0.2, 0.2], [nan, 0.2], [0.8, 0.6]] }"), "bodies[0].shape.polygon.points[1][0]", "finite"),
+        bad("body entirely outside the grid", shape("disk = { center = [5.0, 5.0], radius = 0.2 }"), "bodies[0].shape", "entirely outside the grid"),
+        bad("body partly outside the grid", shape("disk = { center = [0.9, 0.5], radius = 0.2 }"), "bodies[0].shape", "extends outside the grid"),
+        // boundary conditions and loads
+        bad("boundary vx NaN", edit("vy = 0.0", "vx = nan"), "boundary[0].vx", "finite"),
+        bad("boundary vy infinite", edit("vy = 0.0", "vy = inf"), "boundary[0].vy", "finite"),
+        bad("boundary line end NaN", edit("to = [0.8, 0.2]", "to = [nan, 0.2]"), "boundary[0].nodes.line.to[0]", "finite"),
+        bad("load region corner NaN", edit("max = [0.8, 0.6] } }\nforce", "max = [0.8, nan] } }\nforce"), "loads[0].particles.region.max[1]", "finite"),
+        bad("load force NaN", edit("force = [0.0, -1.0]", "force = [0.0, nan]"), "loads[0].force[1]", "finite"),
+        bad("load ramp infinite", edit("force = [0.0, -1.0]", "force = [0.0, -1.0]\nramp = inf"), "loads[0].ramp", "finite"),
+        // cracks
+        bad("crack point NaN", with_crack("points = [[0.1, 0.4], [nan, 0.4]]"), "cracks[0].points[1][0]", "finite"),
+        bad("crack point infinite", with_crack("points = [[0.1, 0.4], [inf, 0.4]]"), "cracks[0].points[1][0]", "finite"),
+        bad("crack point 1e300", with_crack("points = [[0.1, 0.4], [1e300, 0.4]]"), "cracks[0].points[1]", "outside the grid"),
+        bad("crack outside the grid", with_crack("points = [[0.1, 0.4], [0.5, -0.4]]"), "cracks[0].points[1]", "outside the grid"),
+        bad("crack segment of zero length", with_crack("points = [[0.1, 0.4], [0.3, 0.4], [0.3, 0.4], [0.5, 0.4]]"), "cracks[0].points[2]", "must have a length"),
+        bad("crack on a particle row", with_crack("points = [[0.1, 0.425], [0.5, 0.425]]"), "cracks[0].points", "passes through the particle"),
+        bad("crack v_contact infinite", with_crack(&format!("{crack}\nv_contact = inf")), "cracks[0].v_contact", "finite"),
+        bad("crack friction NaN", with_crack(&format!("{crack}\ncontact = {{ friction = {{ mu = nan }} }}")), "cracks[0].contact.friction.mu", "zero or positive"),
+        bad("J contour outside the grid", with_crack(&format!("{crack}\nfracture = {{ tips = \"end\", contour = 8 }}")), "cracks[0].fracture", "geometry"),
+        bad(
+            "J contour crossing the crack twice",
+            with_crack("points = [[0.1, 0.4], [0.5, 0.4], [0.5, 0.45], [0.35, 0.45]]\nfracture = { tips = \"end\", contour = 2 }"),
+            "cracks[0].fracture",
+            "crosses the crack",
+        ),
+        bad("growth increment NaN", growing("increment = nan"), "cracks[0].fracture.growth.increment", "(0, 1]"),
+        bad("growth max_speed infinite", growing("max_speed = inf"), "cracks[0].fracture.growth.max_speed", "finite"),
+        bad("probe end NaN", format!("{BASE}\n[[probes]]\nname = \"p\"\nfrom = [0.1, 0.1]\nto = [nan, 0.5]\npoints = 5\n"), "probes[0].to[0]", "finite"),
+    ]
+}
+
+#[test]
+fn every_kind_of_bad_scene_names_its_field() {
+    let cases = bad_scenes();
+    let mut kinds = std::collections::BTreeSet::new();
+    for b in &cases {
+        assert!(kinds.insert(b.kind), "duplicate kind {}", b.kind);
+        let start = std::time::Instant::now();
+        let e = error_of(&b.text);
+        let msg = e.to_string();
+        match &e {
+            SceneError::Invalid { field, .. } => assert_eq!(field, b.field, "{}: {msg}", b.kind),
+            e => panic!("{}: expected an invalid field, got {e}", b.kind),
+        }
+        assert!(msg.contains(b.says), "{}: the error does not say {:?}:\n{msg}", b.kind, b.says);
+        assert!(start.elapsed().as_secs_f64() < 2.0, "{}: took {:?}", b.kind, start.elapsed());
+    }
+    println!("{} kinds of bad scene, each refused naming its field", cases.len());
+    assert!(cases.len() >= 50, "{}", cases.len());
+}
+
+/// The memory estimate refuses a 10⁴ × 10⁴ grid (30 GB before) with a limit of a few
+/// GB, naming the grid and the estimate, without filling a particle.
+#[test]
+fn memory_estimate_refuses_a_grid_beyond_the_limit() {
+    let t = edit("size = [1.0, 1.0]", "size = [1e4, 1e4]").replace("cell = [0.1, 0.1]", "cell = [1.0, 1.0]");
+    let s = Scene::from_toml(&t, "big").unwrap();
+    let e = s.memory_estimate();
+    assert_eq!(e.nodes, 10001.0 * 10001.0);
+    let msg = s.check_memory(Some(4e9)).unwrap_err().to_string();
+    assert!(msg.contains("scene field `grid`") && msg.contains("10000 × 10000 cells") && msg.contains("GB"), "{msg}");
+    assert!(s.check_memory(Some(e.bytes * 1.01)).is_ok());
+    assert!(s.check_memory(None).is_ok());
+}
+
+/// Run `cramp` with `args` and environment `env`; kill it and fail if it takes longer
+/// than `limit_s` (a hang).
+fn cramp_within(args: &[&str], env: &[(&str, &str)], limit_s: f64) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cramp"))
+        .args(args)
+        .envs(env.iter().copied())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let mut err = String::new();
+            std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+            return (status.code(), err);
+        }
+        if start.elapsed().as_secs_f64() > limit_s {
+            child.kill().ok();
+            child.wait().ok();
+            panic!("cramp {args:?} did not finish within {limit_s} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// Through the binary: scenes that used to hang, spin or allocate without bound now end
+/// at once with an error naming the field (in `run` and `fea`), and an output interval
+/// below the time step is rounded up with a warning.
+#[test]
+fn binary_neither_hangs_nor_allocates_on_bad_scenes() {
+    let dir = temp_dir("no_hang");
+    let cases: Vec<(&str, &str, String, &str)> = vec![
+        ("run", "huge_grid", edit("size = [1.0, 1.0]", "size = [1e7, 1e7]").replace("cell = [0.1, 0.1]", "cell = [1.0, 1.0]"), "scene field `grid`"),
+        ("run", "big_grid", edit("size = [1.0, 1.0]", "size = [1e4, 1e4]").replace("cell = [0.1, 0.1]", "cell = [1.0, 1.0]"), "scene field `grid`"),
+        ("run", "crack_inf", with_crack("points = [[0.1, 0.4], [inf, 0.4]]"), "cracks[0].points[1][0]"),
+        ("fea", "crack_inf", with_crack("points = [[0.1, 0.4], [inf, 0.4]]"), "cracks[0].points[1][0]"),
+        ("fea", "crack_1e300", with_crack("points = [[0.1, 0.4], [1e300, 0.4]]"), "cracks[0].points[1]"),
+        ("run", "subnormal_dt", edit("cfl = 0.5", "dt = 5e-324"), "solver.max_steps"),
+        ("run", "zero_steps", edit("end_time = 0.01", "end_time = 1e-12"), "solver.end_time"),
+    ];
+    for (command, name, text, needle) in &cases {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, text).unwrap();
+        let out = dir.join(format!("out-{command}-{name}"));
+        let (code, stderr) = cramp_within(&[command, scene.to_str().unwrap(), "--out", out.to_str().unwrap()], &[("CRAMP_MEMORY_LIMIT", "4e9")], 20.0);
+        assert_eq!(code, Some(1), "{command} {name}: {stderr}");
+        assert!(stderr.contains(needle) && !stderr.contains("panicked"), "{command} {name}: {stderr}");
+    }
+    // An interval far below the time step: rounded up to one step, with a warning.
+    let scene = dir.join("tiny_interval.toml");
+    std::fs::write(&scene, format!("{BASE}\n[output]\nhistory_interval = 1e-300\narchive_interval = 1e-300\n")).unwrap();
+    let out = dir.join("out-tiny");
+    let (code, stderr) = cramp_within(&["run", scene.to_str().unwrap(), "--out", out.to_str().unwrap()], &[], 20.0);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stderr.contains("warning: output.history_interval = 1e-300 is shorter than the time step") && stderr.contains("output.archive_interval"), "{stderr}");
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let steps = summary["steps"].as_u64().unwrap();
+    assert_eq!(summary["warnings"].as_array().unwrap().len(), 2);
+    assert_eq!(std::fs::read_to_string(out.join("history.csv")).unwrap().lines().count() as u64, steps + 2);
+    // --threads beyond its bound is a usage error; above the cores, a warning.
+    for n in ["0", "5000"] {
+        let (code, stderr) = cramp_within(&["run", scene.to_str().unwrap(), "--threads", n], &[], 20.0);
+        assert_eq!(code, Some(2), "--threads {n}: {stderr}");
+        assert!(stderr.contains("--threads"), "{stderr}");
+    }
+    let (code, stderr) = cramp_within(&["run", scene.to_str().unwrap(), "--out", out.to_str().unwrap(), "--force", "--threads", "512"], &[], 20.0);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stderr.contains("warning: --threads 512 is more than the"), "{stderr}");
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -21,7 +21,11 @@ fn run_demo(dir: &Path) {
     let mut scene = Scene::from_toml(DEFAULT_SCENE, "demo").unwrap();
     scene.solver.end_time = 0.5;
     scene.output.archive_interval = Some(0.25);
-    run_scene(&scene, &RunOptions { out_dir: Some(dir.to_path_buf()), progress: false, checked: Some(true) }).unwrap();
+    run_scene(
+        &scene,
+        &RunOptions { out_dir: Some(dir.to_path_buf()), progress: false, checked: Some(true), ..Default::default() },
+    )
+    .unwrap();
 }
 
 fn copy_dir(from: &Path, to: &Path) {
@@ -168,7 +172,11 @@ fn crack_polylines_are_listed_not_compared() {
     scene.solver.end_time = 3.0;
     scene.output.archive_interval = Some(1.5);
     for d in ["a", "b"] {
-        run_scene(&scene, &RunOptions { out_dir: Some(root.join(d)), progress: false, checked: Some(true) }).unwrap();
+        run_scene(
+            &scene,
+            &RunOptions { out_dir: Some(root.join(d)), progress: false, checked: Some(true), ..Default::default() },
+        )
+        .unwrap();
     }
     let c = compare_runs(&root.join("a"), &root.join("b"), Tolerance::default()).unwrap();
     assert!(c.agree(), "{}", c.render());
@@ -206,4 +214,61 @@ fn verify_runs_a_case_and_writes_the_report() {
     assert_eq!(json["passed"], true);
     assert_eq!(json["cases"].as_array().unwrap().len(), 2);
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A snapshot whose header announces more points than the file holds (`POINTS 1e12`, or
+/// 10¹² written out) is an error naming the file and line, not an allocation of that
+/// size; `cramp compare` exits 2.
+#[test]
+fn absurd_snapshot_sizes_are_errors_not_allocations() {
+    let root = scratch("absurd");
+    let b = root.join("b");
+    run_demo(&b);
+    for count in ["1e12", "1000000000000", "18446744073709551615", "-3"] {
+        let a = root.join("a");
+        let _ = std::fs::remove_dir_all(&a);
+        copy_dir(&b, &a);
+        let path = a.join("particles_00001.vtk");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let header = text.lines().find(|l| l.starts_with("POINTS ")).unwrap().to_string();
+        std::fs::write(&path, text.replacen(&header, &format!("POINTS {count} double"), 1)).unwrap();
+        let e = format!("{:#}", compare_runs(&a, &b, Tolerance::default()).unwrap_err());
+        assert!(e.contains("particles_00001.vtk") && e.contains("line 5"), "{count}: {e}");
+        let (code, _, stderr) = cramp(&["compare", a.to_str().unwrap(), b.to_str().unwrap()]);
+        assert_eq!(code, 2, "{count}: {stderr}");
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// Text columns (cracks.csv `tip`) are compared as text: two runs of a scene computing J
+/// agree, and a changed tip name is one violation located by row, time and tip.
+#[test]
+fn text_columns_compare_as_text() {
+    let root = scratch("text");
+    let mut scene = Scene::from_toml(cramp::verify::cases::crack_patch::FULL, "crack_patch_full").unwrap();
+    scene.cracks[0].fracture = Some(toml::from_str("tips = \"end\"").unwrap());
+    scene.solver.end_time = 1.0;
+    for d in ["a", "b"] {
+        run_scene(&scene, &RunOptions { out_dir: Some(root.join(d)), checked: Some(true), ..Default::default() })
+            .unwrap();
+    }
+    let (a, b) = (root.join("a"), root.join("b"));
+    let (code, stdout, stderr) = cramp(&["compare", a.to_str().unwrap(), b.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(stdout.contains("cracks.tip\t") && stdout.contains("\ttext\t"), "{stdout}");
+    let text = std::fs::read_to_string(a.join("cracks.csv")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let changed = lines[2].replacen(",end,", ",start,", 1);
+    std::fs::write(a.join("cracks.csv"), text.replacen(lines[2], &changed, 1)).unwrap();
+    let c = compare_runs(&a, &b, Tolerance { rtol: 1.0, atol: 1.0 }).unwrap();
+    let f = c.fields.iter().find(|f| f.violations > 0).unwrap();
+    assert_eq!((f.field.as_str(), f.violations, c.violations()), ("cracks.tip", 1, 1));
+    assert!(
+        f.worst_at.starts_with("cracks.csv row 2 (t = ")
+            && f.worst_at.contains("tip = end")
+            && f.worst_at.ends_with("(a = 'start', b = 'end')"),
+        "{}",
+        f.worst_at
+    );
+    let _ = std::fs::remove_dir_all(&root);
 }

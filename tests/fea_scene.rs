@@ -177,7 +177,9 @@ fn bad_scenes_give_field_named_errors() {
     println!("{e}");
     assert!(e.to_string().contains("boundary[0].vx") && e.to_string().contains("not supported by the static FEA"));
 
-    let e = fea_err(&plate("ugimp", "[[cracks]]\npoints = [[-1.0, 4.0], [10.5, 6.5]]\n"));
+    // (Not [10.5, 6.5]: that line passes exactly through the particle at (4.75, 5.25),
+    // which the scene itself now refuses.)
+    let e = fea_err(&plate("ugimp", "[[cracks]]\npoints = [[-1.0, 4.0], [10.5, 6.6]]\n"));
     println!("{e}");
     assert!(matches!(e, FeaError::CrackOffGrid { crack: 0, segment: 0, .. }));
     assert!(e.to_string().contains("neither horizontal nor vertical"));
@@ -296,7 +298,7 @@ fn cramp_fea_command() {
     assert_eq!(g.positions.len(), 4 * 900);
 
     let bad = std::env::temp_dir().join(format!("cramp_fea_bad_{}.toml", std::process::id()));
-    std::fs::write(&bad, plate("ugimp", "[[cracks]]\npoints = [[-1.0, 4.0], [10.5, 6.5]]\n")).unwrap();
+    std::fs::write(&bad, plate("ugimp", "[[cracks]]\npoints = [[-1.0, 4.0], [10.5, 6.6]]\n")).unwrap();
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_cramp"))
         .args(["fea", bad.to_str().unwrap(), "--out", out.join("bad").to_str().unwrap()])
         .output()

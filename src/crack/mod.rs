@@ -122,6 +122,23 @@ pub fn subdivide(vertices: &[Vector], max_spacing: f64) -> Vec<Vector> {
     out
 }
 
+/// The first point of `xs` (in order) within `tol` of the polyline `points`, with the
+/// segment it is near.
+pub fn first_particle_on(points: &[Vector], xs: &[Vector], tol: f64) -> Option<(usize, usize)> {
+    let index = geometry::SegmentIndex::of(points);
+    let r = Vector::new(tol, tol);
+    xs.iter().enumerate().find_map(|(p, &x)| {
+        index
+            .near(x - r, x + r)
+            .find(|&s| {
+                let (a, d) = (points[s], points[s + 1] - points[s]);
+                let t = ((x - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+                (x - (a + d * t)).norm() <= tol
+            })
+            .map(|s| (p, s))
+    })
+}
+
 /// Velocity field index for a crossing result (eq. 2): 0 none, 1 above, 2 below.
 #[inline]
 fn field_of(side: Side) -> u8 {

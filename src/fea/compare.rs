@@ -243,7 +243,7 @@ pub fn compare_with_fea(sim: &Simulation, scene: &Scene) -> anyhow::Result<LineC
 /// overrides the scene's `solver.checked`.
 pub fn mpm_vs_fea(scene: &Scene, checked: Option<bool>) -> anyhow::Result<LineComparison> {
     let t1 = Instant::now();
-    let run = run_scene(scene, &RunOptions { out_dir: None, progress: false, checked })?;
+    let run = run_scene(scene, &RunOptions { checked, ..Default::default() })?;
     let mpm_wall_s = t1.elapsed().as_secs_f64();
     let mut c = compare_with_fea(&run.sim, scene)?;
     c.mpm_wall_s = mpm_wall_s;

@@ -144,6 +144,18 @@ pub enum FractureError {
     Speed { crack: usize, end: TipEnd, source: SpeedError },
 }
 
+impl FractureError {
+    /// The scene index of the crack the error is about.
+    pub fn crack(&self) -> usize {
+        match self {
+            FractureError::ContourOutsideGrid { crack, .. }
+            | FractureError::Crossings { crack, .. }
+            | FractureError::NoMaterial { crack }
+            | FractureError::Speed { crack, .. } => *crack,
+        }
+    }
+}
+
 /// One point of the cut contour: position and the nodal state of the field used there.
 #[derive(Clone, Copy, Debug)]
 struct ContourPoint {

@@ -3,7 +3,7 @@
 //! full symmetric tensors, and the ParaView collection `particles.pvd`.
 
 use super::vtk::{self, PointData};
-use super::{write_pvd, RunOptions};
+use super::{prepare_out_dir, write_atomically, write_pvd, RunOptions, RunStatus};
 use crate::dim::{Vector3, D3};
 use crate::scene3d::Scene3;
 use crate::simulation::{Energies, Simulation};
@@ -58,6 +58,8 @@ impl HistoryRow3 {
 /// summary.json of a 3D run.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Summary3 {
+    /// completed or interrupted (a failed 3D run returns its error; see the issue note).
+    pub status: RunStatus,
     pub scene: Scene3,
     pub dimension: usize,
     pub steps: u64,
@@ -117,7 +119,7 @@ pub fn run_scene_3d(scene: &Scene3, opts: &RunOptions) -> anyhow::Result<RunResu
 /// Run an already built 3D simulation.
 pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOptions) -> anyhow::Result<RunResult3> {
     if let Some(dir) = &opts.out_dir {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create output directory {}", dir.display()))?;
+        prepare_out_dir(dir, opts.force)?;
     }
     let end = scene.solver.end_time;
     let dt = sim.options.dt;
@@ -146,7 +148,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
     }
     let start = Instant::now();
     let half = 0.5 * dt;
-    sim.run_until(end, |s| {
+    let stopped = sim.run_until_stopped(end, |s| {
         bar.inc(1);
         if s.time + half >= next_hist {
             history.push(HistoryRow3::of(s));
@@ -160,6 +162,10 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
                 next_arch += arch_dt.unwrap_or(f64::INFINITY);
             }
         }
+        if opts.stop.as_ref().is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
+            return std::ops::ControlFlow::Break(());
+        }
+        std::ops::ControlFlow::Continue(())
     })
     .map_err(|e| anyhow::anyhow!(e))?;
     let wall = start.elapsed().as_secs_f64();
@@ -171,6 +177,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         history.push(HistoryRow3::of(&sim));
     }
     let summary = Summary3 {
+        status: if stopped { RunStatus::Interrupted } else { RunStatus::Completed },
         scene: scene.clone(),
         dimension: 3,
         steps: sim.step_count,
@@ -197,7 +204,8 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         if !snapshots.is_empty() {
             write_pvd(&dir.join("particles.pvd"), &snapshots)?;
         }
-        std::fs::write(dir.join("summary.json"), serde_json::to_string_pretty(&summary)?).with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
+        let json = serde_json::to_string_pretty(&summary)?;
+        write_atomically(&dir.join("summary.json"), |tmp| std::fs::write(tmp, &json).with_context(|| format!("cannot write {}", tmp.display())))?;
     }
     Ok(RunResult3 { history, summary, sim })
 }

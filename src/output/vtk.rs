@@ -406,6 +406,11 @@ pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
     tokens.expect("POINTS")?;
     let n: usize = tokens.parse()?;
     tokens.expect("double")?;
+    // Every point takes at least 3 coordinates and 2 vertex tokens: a count the file
+    // cannot hold is an error here, not an allocation of its size.
+    if n > tokens.remaining() / 5 {
+        bail!("line {}: POINTS announces {n} points but the file holds only {} more tokens", tokens.line, tokens.remaining());
+    }
     let mut positions = Vec::with_capacity(n);
     for _ in 0..n {
         let (x, y) = (tokens.float()?, tokens.float()?);
@@ -476,6 +481,11 @@ impl<'t> Tokens<'t> {
             tokens: tokens.into_iter().peekable(),
             line: first_line,
         }
+    }
+
+    /// Tokens not yet taken.
+    fn remaining(&self) -> usize {
+        self.tokens.len()
     }
 
     fn peek(&mut self) -> Option<&'t str> {

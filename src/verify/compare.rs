@@ -3,8 +3,9 @@
 //! (`*.vtk`, files matched by name, particles by their `id` array) — and report, per
 //! field, the largest absolute and relative difference and where it is.
 //!
-//! Other CSV files (`cracks.csv`) are compared like the history when present; crack
-//! polylines (`cracks_*.vtk`) are listed but not compared yet.
+//! Other CSV files (`cracks.csv`, `growth.csv`, …) are compared like the history when
+//! present, columns of numbers within the tolerance and text columns (`tip`, `status`)
+//! for equality; crack polylines (`cracks_*.vtk`) are listed but not compared yet.
 //!
 //! A value agrees when |a − b| ≤ atol + rtol·|b| (b from RUN_B, the reference run). With
 //! the defaults rtol = atol = 0 that is equality: bit-identical up to the sign of zero.
@@ -37,6 +38,9 @@ impl Tolerance {
 pub struct FieldDiff {
     /// `history.<column>` or `particles.<array>[.<component>]`.
     pub field: String,
+    /// A text column (e.g. `cracks.tip`), compared for equality: max_abs and max_rel are
+    /// not used, max_abs_at is the first differing row.
+    pub text: bool,
     pub compared: u64,
     /// Values outside the tolerance.
     pub violations: u64,
@@ -57,6 +61,7 @@ impl FieldDiff {
     fn new(field: String) -> Self {
         FieldDiff {
             field,
+            text: false,
             compared: 0,
             violations: 0,
             max_abs: 0.0,
@@ -87,6 +92,19 @@ impl FieldDiff {
             if excess > self.worst_excess || self.worst_at.is_empty() {
                 self.worst_excess = excess;
                 self.worst_at = format!("{} (a = {a:e}, b = {b:e})", at());
+            }
+        }
+    }
+
+    /// Compare two cells of a text column: equal or a violation (the first one is reported).
+    fn add_text(&mut self, a: &str, b: &str, at: &dyn Fn() -> String) {
+        self.text = true;
+        self.compared += 1;
+        if a != b {
+            self.violations += 1;
+            if self.worst_at.is_empty() {
+                self.worst_at = format!("{} (a = '{a}', b = '{b}')", at());
+                self.max_abs_at = self.worst_at.clone();
             }
         }
     }
@@ -152,16 +170,20 @@ impl Comparison {
             s += &format!("not compared: {} file(s) ({} …)\n", self.not_compared.len(), self.not_compared[0]);
         }
         s += "field\tcompared\tviolations\tmax_abs\tmax_abs_at\tmax_rel\tmax_rel_at\n";
+        let or_dash = |s: &str| if s.is_empty() { "-".to_string() } else { s.to_string() };
         for f in &self.fields {
+            let (max_abs, max_rel) = if f.text {
+                ("text".to_string(), "-".to_string())
+            } else {
+                (format!("{:e}", f.max_abs), format!("{:e}", f.max_rel))
+            };
             s += &format!(
-                "{}\t{}\t{}\t{:e}\t{}\t{:e}\t{}\n",
+                "{}\t{}\t{}\t{max_abs}\t{}\t{max_rel}\t{}\n",
                 f.field,
                 f.compared,
                 f.violations,
-                f.max_abs,
-                if f.max_abs_at.is_empty() { "-" } else { &f.max_abs_at },
-                f.max_rel,
-                if f.max_rel_at.is_empty() { "-" } else { &f.max_rel_at }
+                or_dash(&f.max_abs_at),
+                or_dash(&f.max_rel_at)
             );
         }
         for f in self.fields.iter().filter(|f| f.violations > 0) {
@@ -181,14 +203,18 @@ impl Comparison {
     }
 }
 
-/// A parsed history.csv: column names and rows.
+/// A CSV file of a run: column names and each row's cells as written (trimmed).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Csv {
     pub columns: Vec<String>,
-    pub rows: Vec<Vec<f64>>,
+    pub rows: Vec<Vec<String>>,
+    /// Line number in the file of each row (from 1; the header is line 1).
+    pub lines: Vec<usize>,
 }
 
-/// Read a numeric CSV with a header line; errors name the file, line and column.
+/// Read a CSV with a header line, every row with one cell per column; errors name the
+/// file and line. Cells are kept as text: [`compare_runs`] decides per column whether it
+/// holds numbers or text.
 pub fn read_csv(path: &Path) -> anyhow::Result<Csv> {
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
@@ -197,25 +223,40 @@ pub fn read_csv(path: &Path) -> anyhow::Result<Csv> {
     if columns.iter().any(|c| c.is_empty()) {
         bail!("{} line 1: empty column name in the header '{header}'", path.display());
     }
-    let mut rows = Vec::new();
+    let (mut rows, mut numbers) = (Vec::new(), Vec::new());
     for (i, line) in lines {
-        let cells: Vec<&str> = line.split(',').collect();
+        let cells: Vec<String> = line.split(',').map(|c| c.trim().to_string()).collect();
         if cells.len() != columns.len() {
             bail!("{} line {}: {} values for {} columns", path.display(), i + 1, cells.len(), columns.len());
         }
-        let row = cells
-            .iter()
-            .zip(&columns)
-            .map(|(c, name)| {
-                c.trim().parse::<f64>().with_context(|| {
-                    format!("{} line {}, column '{name}': '{}' is not a number", path.display(), i + 1, c.trim())
-                })
-            })
-            .collect::<anyhow::Result<Vec<f64>>>()?;
-        rows.push(row);
+        rows.push(cells);
+        numbers.push(i + 1);
     }
-    Ok(Csv { columns, rows })
+    Ok(Csv { columns, rows, lines: numbers })
 }
+
+/// The numbers of column `c`, or an error naming the file, line and column of a cell
+/// that is not one.
+fn numbers(csv: &Csv, c: usize, path: &Path) -> anyhow::Result<Vec<f64>> {
+    csv.rows
+        .iter()
+        .enumerate()
+        .map(|(r, row)| {
+            row[c].parse::<f64>().with_context(|| {
+                format!(
+                    "{} line {}, column '{}': '{}' is not a number",
+                    path.display(),
+                    csv.lines[r],
+                    csv.columns[c],
+                    row[c]
+                )
+            })
+        })
+        .collect()
+}
+
+/// Columns that identify a row in the report's locations, besides `time`.
+const KEY_COLUMNS: [&str; 2] = ["crack", "tip"];
 
 /// The files of a run directory ending in `suffix`, sorted by name.
 fn files_ending(dir: &Path, suffix: &str) -> anyhow::Result<Vec<String>> {
@@ -331,15 +372,37 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
             history_rows = ha.rows.len();
         }
         let stem = file.trim_end_matches(".csv");
-        let time_col = ha.columns.iter().position(|c| c == "time");
+        let (pa, pb) = (run_a.join(file), run_b.join(file));
+        let time = match hb.columns.iter().position(|c| c == "time") {
+            Some(t) => numbers(&hb, t, &pb)?,
+            None => Vec::new(),
+        };
+        let keys: Vec<usize> = KEY_COLUMNS.iter().filter_map(|k| hb.columns.iter().position(|c| c == k)).collect();
+        let at = |r: usize| {
+            let mut what: Vec<String> = time.get(r).map(|t| format!("t = {t:e}")).into_iter().collect();
+            what.extend(keys.iter().map(|&k| format!("{} = {}", hb.columns[k], hb.rows[r][k])));
+            if what.is_empty() {
+                format!("{file} row {}", r + 1)
+            } else {
+                format!("{file} row {} ({})", r + 1, what.join(", "))
+            }
+        };
         for (c, name) in ha.columns.iter().enumerate() {
             let k = field(format!("{stem}.{name}"), &mut fields);
-            for (r, (a, b)) in ha.rows.iter().zip(&hb.rows).enumerate() {
-                let at = || match time_col {
-                    Some(t) => format!("{file} row {} (t = {:e})", r + 1, hb.rows[r][t]),
-                    None => format!("{file} row {}", r + 1),
-                };
-                fields[k].add(a[c], b[c], &tol, &at);
+            // A column of numbers in the reference run is compared as numbers; one with
+            // text in it (cramp's `tip`, `grew`, `status`) as text, cell by cell.
+            match numbers(&hb, c, &pb) {
+                Ok(b) => {
+                    let a = numbers(&ha, c, &pa)?;
+                    for (r, (&a, &b)) in a.iter().zip(&b).enumerate() {
+                        fields[k].add(a, b, &tol, &|| at(r));
+                    }
+                }
+                Err(_) => {
+                    for (r, (a, b)) in ha.rows.iter().zip(&hb.rows).enumerate() {
+                        fields[k].add_text(&a[c], &b[c], &|| at(r));
+                    }
+                }
             }
         }
     }

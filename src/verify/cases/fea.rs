@@ -423,7 +423,7 @@ pub fn mpm_vs_fea_with_control(h: f64, checked: Option<bool>) -> anyhow::Result<
     use crate::fea::compare::compare_with_fea;
     let scene = dcb_nairn2003_scene(h, false)?;
     let t = std::time::Instant::now();
-    let run = crate::output::run_scene(&scene, &crate::output::RunOptions { out_dir: None, progress: false, checked })?;
+    let run = crate::output::run_scene(&scene, &crate::output::RunOptions { checked, ..Default::default() })?;
     let mpm_wall_s = t.elapsed().as_secs_f64();
     let mut c = compare_with_fea(&run.sim, &scene)?;
     c.mpm_wall_s = mpm_wall_s;

@@ -1,0 +1,176 @@
+//! `cramp compare` on the outputs of every scene the verification suite runs: each
+//! verification/*.toml scene and the scenes the quick cases generate (crack growth, J and
+//! K, friction, plates), shortened to a few steps with a row and a snapshot at most steps.
+//!
+//! Reference: equality. Two runs of the same scene are bit-identical (the solver's sums are
+//! correctly rounded), so compare must report AGREE with zero tolerance over every file
+//! the run wrote — history.csv, cracks.csv (whose `tip` column is text), growth.csv (`tip`,
+//! `grew`, `status`, `j`), crack_paths.csv and the particle snapshots. A copy with exactly
+//! one value changed must give exactly one violation, in that field. No tolerance is
+//! involved.
+
+use cramp::output::vtk::{self, PointArray};
+use cramp::output::{run_scene, RunOptions};
+use cramp::scene::Scene;
+use cramp::verify::cases;
+use cramp::verify::compare::{compare_runs, Tolerance};
+use std::path::{Path, PathBuf};
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cramp-compare-cases-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// Every scene of verification/ and those the quick cases build, by name.
+fn scenes() -> Vec<(String, Scene)> {
+    let mut out = Vec::new();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("verification");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    for f in files {
+        let name = f.file_stem().unwrap().to_string_lossy().into_owned();
+        if name == "cases" {
+            continue;
+        }
+        out.push((name, Scene::from_file(&f).unwrap()));
+    }
+    let text = |name: &str, t: String| (name.to_string(), Scene::from_toml(&t, name).unwrap());
+    out.push(text("pmma_tpb", cases::growth::three_point_bend(4.0, 0.0, "max_hoop_stress", 1.0)));
+    out.push(text("mode_ii_kink", cases::growth::shear_plate(1.0, 1.0, 1.0)));
+    out.push(text("dcb_growth", cases::growth::dcb_growth_scene(2.0)));
+    out.push(text("plates_k", cases::plates::PlateKind::Cct.scene(0.5).0));
+    out.push(text(
+        "crack_friction",
+        cases::cracks::block_on_crack(1.0, [0.001, -0.01], 1.0, 2.0, "{ friction = { mu = 0.3 } }"),
+    ));
+    out.push(("chen_early_time".to_string(), cases::fracture::chen_scene(0.5, 1.0).unwrap()));
+    out
+}
+
+/// The scene cut to 6 steps, a history row every step and a snapshot every other step.
+fn shortened(mut s: Scene) -> Scene {
+    let dt = s.time_step();
+    s.solver.end_time = 6.0 * dt;
+    s.output.history_interval = Some(dt);
+    s.output.archive_interval = Some(2.0 * dt);
+    s
+}
+
+fn run(scene: &Scene, dir: &Path) {
+    run_scene(scene, &RunOptions { out_dir: Some(dir.to_path_buf()), checked: Some(true), ..Default::default() })
+        .unwrap();
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    let _ = std::fs::remove_dir_all(to);
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
+
+/// Replace cell (row, column) of a CSV (row 0 is the header) and return the old cell.
+fn edit_csv(path: &Path, row: usize, column: usize, edit: impl FnOnce(&str) -> String) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines: Vec<Vec<String>> = text.lines().map(|l| l.split(',').map(String::from).collect()).collect();
+    let old = lines[row][column].clone();
+    lines[row][column] = edit(&old);
+    std::fs::write(path, lines.iter().map(|l| l.join(",")).collect::<Vec<_>>().join("\n") + "\n").unwrap();
+    old
+}
+
+/// A different number that any tolerance of zero sees.
+fn nudge(x: f64) -> f64 {
+    if x == 0.0 {
+        1e-300
+    } else {
+        x * (1.0 + 1e-12)
+    }
+}
+
+/// Assert that comparing `p` (b with one change) against `b` finds exactly one violation, in `field`.
+fn one_violation(p: &Path, b: &Path, field: &str, what: &str) {
+    let c = compare_runs(p, b, Tolerance::default()).unwrap_or_else(|e| panic!("{what}: {e:#}"));
+    let bad: Vec<&str> = c.fields.iter().filter(|f| f.violations > 0).map(|f| f.field.as_str()).collect();
+    assert_eq!(c.violations(), 1, "{what}: {bad:?}\n{}", c.render());
+    assert_eq!(bad, [field], "{what}\n{}", c.render());
+}
+
+#[test]
+fn every_verification_scene_compares_equal_to_itself_and_finds_one_perturbed_value() {
+    let (mut files_seen, mut perturbations) = (std::collections::BTreeSet::new(), 0);
+    for (name, scene) in scenes() {
+        let scene = shortened(scene);
+        let root = scratch(&name);
+        let (a, b, p) = (root.join("a"), root.join("b"), root.join("p"));
+        run(&scene, &a);
+        run(&scene, &b);
+        let c = compare_runs(&a, &b, Tolerance::default()).unwrap_or_else(|e| panic!("{name}: {e:#}"));
+        assert!(c.agree(), "{name}: two runs differ\n{}", c.render());
+        assert!(c.history_rows >= 7 && !c.snapshots.is_empty(), "{name}\n{}", c.render());
+
+        let mut names: Vec<String> =
+            std::fs::read_dir(&b).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        for file in &names {
+            files_seen.insert(if file.ends_with(".csv") {
+                file.clone()
+            } else {
+                file.split('_').next().unwrap_or("").to_string()
+            });
+            if let Some(stem) = file.strip_suffix(".csv") {
+                // The last numeric cell of the last row, and every text column once.
+                let csv = cramp::verify::compare::read_csv(&b.join(file)).unwrap();
+                let last = csv.rows.len();
+                if last == 0 {
+                    continue;
+                }
+                for (col, column) in csv.columns.iter().enumerate() {
+                    let cell = &csv.rows[last - 1][col];
+                    let is_text = csv.rows.iter().any(|r| r[col].parse::<f64>().is_err());
+                    if !(is_text || col + 1 == csv.columns.len()) {
+                        continue;
+                    }
+                    copy_dir(&b, &p);
+                    edit_csv(&p.join(file), last, col, |old| {
+                        if is_text {
+                            format!("{old}x")
+                        } else {
+                            format!("{:e}", nudge(old.parse().unwrap()))
+                        }
+                    });
+                    one_violation(
+                        &p,
+                        &b,
+                        &format!("{stem}.{column}"),
+                        &format!("{name}: {file} column {column} (was '{cell}')"),
+                    );
+                    perturbations += 1;
+                }
+            } else if Some(file) == names.iter().rfind(|f| f.starts_with("particles_")) {
+                copy_dir(&b, &p);
+                let mut s = vtk::read_points(p.join(file)).unwrap();
+                if let Some((_, PointArray::Tensor(t))) = s.arrays.iter_mut().find(|(n, _)| n == "stress") {
+                    let k = t.len() / 2;
+                    t[k].xy = nudge(t[k].xy);
+                }
+                let data: Vec<(&str, vtk::PointData)> =
+                    s.arrays.iter().map(|(n, a)| (n.as_str(), a.as_point_data())).collect();
+                vtk::write_points(p.join(file), &s.title, &s.positions, &data).unwrap();
+                one_violation(&p, &b, "particles.stress.xy", &format!("{name}: {file}"));
+                perturbations += 1;
+            }
+        }
+        let _ = std::fs::remove_dir_all(&root);
+    }
+    println!("{perturbations} single-value perturbations found, in files {files_seen:?}");
+    for f in ["history.csv", "cracks.csv", "growth.csv", "crack_paths.csv"] {
+        assert!(files_seen.contains(f), "no scene wrote {f}: {files_seen:?}");
+    }
+}
