@@ -217,12 +217,20 @@ impl Simulation {
                 let (node, c) = (pairs.node[k] as usize, scratch.pair_crack[k]);
                 let nc = node_crack[node];
                 if nc != u16::MAX && nc != c {
-                    return Err(CheckError::TooManyFields { step: self.step_count, node, cracks: vec![nc as usize, c as usize] });
+                    return Err(self.too_many_fields(node, vec![nc as usize, c as usize]));
                 }
                 node_crack[node] = c;
             }
         }
         Ok(())
+    }
+
+    /// The error for a node that would need a third velocity field, naming it by its
+    /// grid indices and position.
+    fn too_many_fields(&self, node: usize, cracks: Vec<usize>) -> CheckError {
+        let (i, j) = self.grid.node_ij(node);
+        let x = self.grid.node_pos(node);
+        CheckError::TooManyFields { step: self.step_count, i, j, x: x.x, y: x.y, cracks }
     }
 
     /// After the Task 1 gather: every node has at most two fields, and a node with two
@@ -234,7 +242,7 @@ impl Simulation {
             let present = self.nodes.present[i];
             if present == 0b111 {
                 let c = self.nodes.crack[i] as usize;
-                return Err(CheckError::TooManyFields { step: self.step_count, node: i, cracks: vec![c] });
+                return Err(self.too_many_fields(i, vec![c]));
             }
             if present.count_ones() == 2 {
                 let c = self.nodes.crack[i] as usize;

@@ -146,7 +146,7 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
     let start = Instant::now();
     let mut io_error: Option<anyhow::Error> = None;
     let half = 0.5 * dt;
-    sim.run_until(end, |s| {
+    let run = sim.run_until(end, |s| {
         bar.inc(1);
         if s.time + half >= next_hist {
             history.push(HistoryRow::of(s));
@@ -171,8 +171,15 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
                 next_arch += arch_dt.unwrap_or(f64::INFINITY);
             }
         }
-    })
-    .map_err(|e| anyhow::anyhow!(e))?;
+    });
+    if let Err(e) = run {
+        // What was computed up to the failure is written, so the run can be examined.
+        if let Some(dir) = &opts.out_dir {
+            history.push(HistoryRow::of(&sim));
+            write_tables(dir, &sim, &history, wants_j.then_some(&tips[..]))?;
+        }
+        return Err(anyhow::anyhow!(e));
+    }
     let wall = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     if let Some(e) = io_error {
@@ -202,18 +209,25 @@ pub fn run_simulation(scene: &Scene, mut sim: Simulation, opts: &RunOptions) -> 
         growth: CrackGrowthSummary::of(&sim),
     };
     if let Some(dir) = &opts.out_dir {
-        write_history(&dir.join("history.csv"), &history)?;
-        if wants_j {
-            write_tips(&dir.join("cracks.csv"), &tips)?;
-        }
-        if let Some(g) = &sim.growth {
-            write_rows(&dir.join("growth.csv"), GrowthRecord::HEADER, g.records.iter().map(GrowthRecord::csv))?;
-            write_crack_paths(&dir.join("crack_paths.csv"), &sim)?;
-        }
+        write_tables(dir, &sim, &history, wants_j.then_some(&tips[..]))?;
         let json = serde_json::to_string_pretty(&summary)?;
         std::fs::write(dir.join("summary.json"), json).with_context(|| format!("cannot write {}", dir.join("summary.json").display()))?;
     }
     Ok(RunResult { history, tips, summary, sim })
+}
+
+/// The CSV tables of a run: history.csv, cracks.csv (when J is requested: `tips`),
+/// growth.csv and crack_paths.csv (growing cracks).
+fn write_tables(dir: &Path, sim: &Simulation, history: &[HistoryRow], tips: Option<&[TipResult]>) -> anyhow::Result<()> {
+    write_history(&dir.join("history.csv"), history)?;
+    if let Some(tips) = tips {
+        write_tips(&dir.join("cracks.csv"), tips)?;
+    }
+    if let Some(g) = &sim.growth {
+        write_rows(&dir.join("growth.csv"), GrowthRecord::HEADER, g.records.iter().map(GrowthRecord::csv))?;
+        write_crack_paths(&dir.join("crack_paths.csv"), sim)?;
+    }
+    Ok(())
 }
 
 /// Write cracks.csv: one row per requested crack tip per history time.
