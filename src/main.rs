@@ -192,6 +192,9 @@ fn run_demo() -> anyhow::Result<()> {
 }
 
 fn execute(scene: &Scene, out: PathBuf, unchecked: bool) -> anyhow::Result<()> {
+    for w in scene.warnings() {
+        eprintln!("warning: {w}");
+    }
     let opts = RunOptions { out_dir: Some(out.clone()), progress: std::io::stderr().is_terminal(), checked: unchecked.then_some(false) };
     let r = run_scene(scene, &opts)?;
     let s = &r.summary;
