@@ -260,6 +260,10 @@ pub struct CrackSpec {
     /// Relative volume above which faces are in contact (default 1.1).
     #[serde(default = "default_vcontact")]
     pub v_contact: f64,
+    /// How contact is detected: "volume" (default; Nairn 2003 eqs. 8–12, with v_sep and
+    /// v_contact) or "opening" (the tracked crack surfaces' normal opening).
+    #[serde(default)]
+    pub detection: crate::crack::ContactDetection,
     /// J-integral and stress intensity factors at this crack's tips (Guo & Nairn 2004 §3),
     /// written to cracks.csv at the history interval. Omitted: not computed.
     #[serde(default)]
@@ -732,7 +736,9 @@ impl Scene {
                     ContactSpec::Friction { mu } => ContactLaw::Friction(mu),
                 };
                 let vertices: Vec<Vector> = c.points.iter().map(|p| v(*p)).collect();
-                Crack::new(crate::crack::subdivide(&vertices, 0.5 * grid.min_h()), law, c.v_sep, c.v_contact)
+                let mut crack = Crack::new(crate::crack::subdivide(&vertices, 0.5 * grid.min_h()), law, c.v_sep, c.v_contact);
+                crack.detection = c.detection;
+                crack
             })
             .collect();
         let options = Options {
