@@ -36,8 +36,8 @@ pub enum CheckError {
     NonFiniteNode { step: u64, node: usize, field: usize, what: &'static str, value: String },
     #[error("step {step}: particle {particle} (id {id}) crossed crack {crack}: it was on side {before} and is now on side {after}")]
     CrackCrossing { step: u64, particle: usize, id: u32, crack: usize, before: i8, after: i8 },
-    #[error("step {step}: node {node} needs more than two velocity fields (cracks {cracks:?}); CRAMP allows at most two")]
-    TooManyFields { step: u64, node: usize, cracks: Vec<usize> },
+    #[error("step {step}: grid node (i, j) = ({i}, {j}) at ({x}, {y}) needs more than two velocity fields (cracks {cracks:?}); CRAMP allows at most two")]
+    TooManyFields { step: u64, i: usize, j: usize, x: f64, y: f64, cracks: Vec<usize> },
     #[error("step {step}: particle {particle} (id {id}) sees no grid node that a crack does not hide (node visibility); it lies on a crack")]
     NoVisibleNode { step: u64, particle: usize, id: u32 },
     #[error("step {step}: contact at node {node} changed total momentum from ({bx:.17e}, {by:.17e}) to ({ax:.17e}, {ay:.17e})")]

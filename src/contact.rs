@@ -13,7 +13,7 @@
 //!   removed when that suffices (sticking by friction). μ = 0 is frictionless.
 //!   An impulse can only push: frictional contact acts only when the faces approach.
 
-use crate::crack::ContactLaw;
+use crate::crack::{ContactDetection, ContactLaw};
 use crate::dim::Vector;
 use crate::simulation::Simulation;
 
@@ -73,23 +73,43 @@ impl Simulation {
     fn contact_pass(&mut self, back_compute_forces: bool) {
         let dt = self.options.dt;
         let cell = self.grid.cell_area();
+        let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
         let nodes = &mut self.nodes;
         for &node in &nodes.active {
             let i = node as usize;
             let Some((a, b)) = above_below(nodes.present[i]) else { continue };
-            let crack = &self.cracks[nodes.crack[i] as usize];
+            let c = nodes.crack[i] as usize;
+            let crack = &self.cracks[c];
             if crack.contact == ContactLaw::None {
-                continue;
-            }
-            let v_rel = nodes.volume[i] / cell;
-            if v_rel < crack.v_sep {
                 continue;
             }
             let (ma, mb) = (nodes.fields[a].mass[i], nodes.fields[b].mass[i]);
             let (pa, pb) = (nodes.fields[a].mom[i], nodes.fields[b].mom[i]);
             let dv = pa / ma - pb / mb;
             let mred = ma * mb / (ma + mb);
-            let Some(dp) = contact_impulse(crack.contact, dv, nodes.normal[i], mred, v_rel > crack.v_contact) else {
+            let n = nodes.normal[i];
+            let (dv, forced) = match crack.detection {
+                ContactDetection::Volume => {
+                    let v_rel = nodes.volume[i] / cell;
+                    if v_rel < crack.v_sep {
+                        continue;
+                    }
+                    (dv, v_rel > crack.v_contact)
+                }
+                ContactDetection::Opening => {
+                    let x = self.grid.node_pos(i);
+                    let Some(gap) = self.scratch.crack_index.get(c).and_then(|index| crack.normal_opening_near(index, x, reach)) else {
+                        continue;
+                    };
+                    // Apart through the whole step: no contact.
+                    if gap - dt * dv.dot(&n) > 0.0 {
+                        continue;
+                    }
+                    // Only the approach beyond what closes the gap is removed.
+                    (dv - n * (gap.max(0.0) / dt), gap <= 0.0)
+                }
+            };
+            let Some(dp) = contact_impulse(crack.contact, dv, n, mred, forced) else {
                 continue;
             };
             nodes.fields[a].mom[i] = pa + dp;

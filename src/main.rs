@@ -255,7 +255,7 @@ fn stop_on_signals() -> anyhow::Result<Arc<AtomicBool>> {
 }
 
 fn execute(scene: &Scene, out: PathBuf, unchecked: bool, force: bool) -> anyhow::Result<ExitCode> {
-    for w in cramp::output::output_intervals(scene, scene.time_step()).warnings {
+    for w in cramp::output::output_intervals(scene, scene.time_step()).warnings.into_iter().chain(scene.warnings()) {
         eprintln!("warning: {w}");
     }
     let opts = RunOptions {

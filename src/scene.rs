@@ -110,6 +110,16 @@ pub struct SolverSpec {
 /// Default of `solver.max_steps`: 10⁸ steps (days of run time for a few thousand particles).
 pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
 
+/// The largest `solver.cfl` accepted for a scheme: the stability limit measured by the
+/// case `cfl_sweep` on a vibrating elastic block with uGIMP (USL 0.60; MUSL and USAVG
+/// 1.71, USF 1.73 over 2000 steps), rounded down to two digits.
+pub fn stable_cfl(scheme: Scheme) -> f64 {
+    match scheme {
+        Scheme::Usl => 0.6,
+        Scheme::Musl | Scheme::Usf | Scheme::Usavg => 1.7,
+    }
+}
+
 fn default_scheme() -> Scheme {
     Scheme::Usavg
 }
@@ -258,6 +268,10 @@ pub struct CrackSpec {
     /// Relative volume above which faces are in contact (default 1.1).
     #[serde(default = "default_vcontact")]
     pub v_contact: f64,
+    /// How contact is detected: "volume" (default; Nairn 2003 eqs. 8–12, with v_sep and
+    /// v_contact) or "opening" (the tracked crack surfaces' normal opening).
+    #[serde(default)]
+    pub detection: crate::crack::ContactDetection,
     /// J-integral and stress intensity factors at this crack's tips (Guo & Nairn 2004 §3),
     /// written to cracks.csv at the history interval. Omitted: not computed.
     #[serde(default)]
@@ -276,8 +290,8 @@ pub struct FractureSpec {
     /// Add the area term of eq. 8 (two-term, path-independent J; default false).
     #[serde(default)]
     pub area_term: bool,
-    /// How δ_I, δ_II for the K split are read from the crack surfaces: "fit" (default)
-    /// or "next_to_tip" (Guo & Nairn 2004 §3).
+    /// How δ_I, δ_II for the K split are read from the crack surfaces: "next_to_tip"
+    /// (default; Guo & Nairn 2004 §3) or "fit" (verified for stationary cracks only).
     #[serde(default)]
     pub cod: CodMethod,
     /// Let the tips grow (001 §2.3.2) by the toughness of the material they are in.
@@ -481,8 +495,15 @@ impl Scene {
         positive("solver.end_time", s.end_time)?;
         if let Some(cfl) = s.cfl {
             positive("solver.cfl", cfl)?;
-            if cfl > 1.0 {
-                return Err(invalid("solver.cfl", format!("must be at most 1 (a fraction of the CFL limit), got {cfl}")));
+            let limit = stable_cfl(s.scheme);
+            if cfl > limit {
+                return Err(invalid(
+                    "solver.cfl",
+                    format!(
+                        "must be at most {limit}, the measured stability limit of the {} scheme (case cfl_sweep; docs/scene.md), got {cfl}",
+                        format!("{:?}", s.scheme).to_uppercase()
+                    ),
+                ));
             }
         }
         if let Some(dt) = s.dt {
@@ -841,7 +862,9 @@ impl Scene {
                     ContactSpec::Friction { mu } => ContactLaw::Friction(mu),
                 };
                 let vertices: Vec<Vector> = c.points.iter().map(|p| v(*p)).collect();
-                Crack::new(crate::crack::subdivide(&vertices, 0.5 * grid.min_h()), law, c.v_sep, c.v_contact)
+                let mut crack = Crack::new(crate::crack::subdivide(&vertices, 0.5 * grid.min_h()), law, c.v_sep, c.v_contact);
+                crack.detection = c.detection;
+                crack
             })
             .collect();
         let options = Options {
@@ -923,6 +946,24 @@ impl Scene {
         }
         let toughness = self.materials.iter().map(|m| m.toughness.as_ref().map(|t| Toughness { criterion: t.criterion, kic: t.kic })).collect();
         Some(Growth::new(sim, toughness, growing))
+    }
+
+    /// Settings that are accepted but unverified for the case at hand, one message each
+    /// (`cramp run` prints them as warnings): the COD fit on a growing crack, whose
+    /// surfaces behind the tip were laid down during growth (verified for stationary
+    /// cracks only, case split_beams_k).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for (c, crack) in self.cracks.iter().enumerate() {
+            if let Some(f) = &crack.fracture {
+                if f.cod == CodMethod::Fit && f.growth.is_some() {
+                    out.push(format!(
+                        "cracks[{c}].fracture.cod = \"fit\" on a growing crack is unverified (verified for stationary cracks only, case split_beams_k); \"next_to_tip\" is the papers' method for growth"
+                    ));
+                }
+            }
+        }
+        out
     }
 
     /// Per crack, the J/K request of its `fracture` table (None: not computed).

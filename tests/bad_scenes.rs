@@ -166,7 +166,10 @@ fn material_name_not_found() {
 
 #[test]
 fn bad_cfl_and_time_step() {
-    assert_eq!(invalid_field(&edit("cfl = 0.5", "cfl = 1.5")), "solver.cfl");
+    // cfl up to the measured stability limit of the scheme (case cfl_sweep), named in the error.
+    expect(&edit("cfl = 0.5", "cfl = 1.75"), &["solver.cfl", "at most 1.7", "USAVG", "cfl_sweep", "got 1.75"]);
+    assert!(Scene::from_toml(&edit("cfl = 0.5", "cfl = 1.5"), "ok.toml").is_ok(), "USAVG is stable to 1.7");
+    expect(&edit("scheme = \"usavg\"\nshape = \"ugimp\"\ncfl = 0.5", "scheme = \"usl\"\nshape = \"ugimp\"\ncfl = 0.65"), &["solver.cfl", "at most 0.6", "USL"]);
     assert_eq!(invalid_field(&edit("cfl = 0.5", "cfl = 0.0")), "solver.cfl");
     assert_eq!(invalid_field(&edit("cfl = 0.5", "cfl = -0.5")), "solver.cfl");
     assert_eq!(invalid_field(&edit("cfl = 0.5", "dt = -1e-3")), "solver.dt");
@@ -544,4 +547,17 @@ fn binary_neither_hangs_nor_allocates_on_bad_scenes() {
     assert_eq!(code, Some(0), "{stderr}");
     assert!(stderr.contains("warning: --threads 512 is more than the"), "{stderr}");
     std::fs::remove_dir_all(dir).ok();
+}
+
+/// Settings that are accepted but unverified for the case at hand are warned about
+/// (`cramp run` prints them): the COD fit on a growing crack.
+#[test]
+fn cod_fit_on_a_growing_crack_warns() {
+    let crack = |fracture: &str| format!("{BASE}\n[[cracks]]\npoints = [[0.1, 0.4], [0.5, 0.4]]\nfracture = {fracture}\n").replace("state = \"plane_strain\"", "state = \"plane_strain\"\ntoughness = { criterion = \"max_hoop_stress\", kic = 1.0 }");
+    let warnings = |fracture: &str| Scene::from_toml(&crack(fracture), "w.toml").unwrap().warnings();
+    let w = warnings(r#"{ tips = "end", cod = "fit", growth = { increment = 0.5 } }"#);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("cracks[0].fracture.cod") && w[0].contains("unverified"), "{w:?}");
+    assert!(warnings(r#"{ tips = "end", cod = "fit" }"#).is_empty());
+    assert!(warnings(r#"{ tips = "end", growth = { increment = 0.5 } }"#).is_empty());
 }

@@ -159,3 +159,78 @@ fn growth_is_identical_after_shuffling_particles() {
     assert!(a.growth.as_ref().unwrap().records.iter().filter(|r| r.grew).count() >= 3, "the crack must have grown");
     assert_eq!((pa, ra), bits(&b));
 }
+
+/// A centre crack on the grid line y = 0 (h = 1) whose end has just kinked by −60°
+/// (its last segment, half a cell long), in a plate under shear plus tension (τ = σ =
+/// 1 MPa, ramped, damped). The nodes on y = 0 next to the kink lie on the crack; before
+/// issue 22 the material beyond the kinked segment got field 0 there, next to fields 1
+/// and 2, and the run stopped at step 1 with a third velocity field.
+const KINKED_NOTCH: &str = r#"
+title = "notch on a grid line, kinked by -60 degrees"
+[grid]
+origin = [-24.0, -24.0]
+size = [48.0, 48.0]
+cell = [1.0, 1.0]
+[solver]
+end_time = 0.5
+damping = 10.0
+[output]
+history_interval = 0.05
+[[materials]]
+name = "solid"
+E = 1000.0
+nu = 0.3
+rho = 1.0e-3
+state = "plane_strain"
+toughness = { criterion = "max_hoop_stress", kic = 3.66 }
+[[bodies]]
+material = "solid"
+shape = { rectangle = { min = [-20.0, -20.0], max = [20.0, 20.0] } }
+[[loads]]
+particles = { region = { min = [-19.5, 19.5], max = [19.5, 20.0] } }
+force = [40.0, 40.0]
+ramp = 0.5
+[[loads]]
+particles = { region = { min = [-19.5, -20.0], max = [19.5, -19.5] } }
+force = [-40.0, -40.0]
+ramp = 0.5
+[[loads]]
+particles = { region = { min = [19.5, -20.0], max = [20.0, 20.0] } }
+force = [0.0, 40.0]
+ramp = 0.5
+[[loads]]
+particles = { region = { min = [-20.0, -20.0], max = [-19.5, 20.0] } }
+force = [0.0, -40.0]
+ramp = 0.5
+[[cracks]]
+points = [[-5.5, 0.0], [5.5, 0.0], [5.75, -0.4330127018922193]]
+fracture = { tips = "end", contour = 2, area_term = true, growth = { increment = 0.5 } }
+"#;
+
+#[test]
+fn a_notch_kinked_on_a_grid_line_grows_on_with_two_fields() {
+    let (r, wall) = run_growth(KINKED_NOTCH, true).unwrap();
+    let recs = records(&r, TipEnd::End);
+    let grew = recs.iter().filter(|x| x.grew).count();
+    let tip = *path(&r).last().unwrap();
+    println!("{grew} increments, tip at ({:.2}, {:.2}), {wall:.1} s", tip.0, tip.1);
+    // Checked to the end (≤ 2 fields at every node, no particle crossing the crack), and
+    // the crack went on growing from the kink.
+    assert!(r.sim.time > 0.49);
+    assert!(grew >= 5, "only {grew} increments");
+    assert!(is_simple_polyline(&r.sim.cracks[0].points));
+}
+
+/// Two cracks half a cell apart split the nodes between them twice: the error names the
+/// node by its grid indices and position.
+#[test]
+fn a_node_needing_a_third_field_is_named_by_indices_and_position() {
+    let text = KINKED_NOTCH.replace(
+        "[[cracks]]\npoints = [[-5.5, 0.0], [5.5, 0.0], [5.75, -0.4330127018922193]]",
+        "[[cracks]]\npoints = [[-5.5, 0.25], [5.5, 0.25]]\n[[cracks]]\npoints = [[-5.5, -0.25], [5.5, -0.25]]",
+    );
+    let err = run_growth(&text, true).err().expect("two cracks through one node's cell must stop the run");
+    let msg = format!("{err:#}");
+    println!("{msg}");
+    assert!(msg.contains("grid node (i, j) = (") && msg.contains(", 24) at (") && msg.contains(", 0)"), "{msg}");
+}

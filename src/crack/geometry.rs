@@ -483,6 +483,18 @@ fn wedge_side(a: Vector, v: Vector, b: Vector, p: Vector) -> Side {
 ///    and keeps the sense of the last crossing in crack order; the two agree whenever
 ///    all crossings have the same sense.) Near-ties in position are broken by the
 ///    earlier crossing in crack order.
+/// 5. **Node on the crack**: such a node lies on neither side, so parity says nothing
+///    (a node "on the same side" as the particle does not exist): every particle whose
+///    line meets the crack is across it, on the side of the crossing **nearest the
+///    particle** — the side of the crack surface the particle itself faces. With one
+///    crossing (the node itself; any straight crack) this is rule 4's answer. It
+///    differs where the crack kinks: a node on the straight part, near the kink, sees
+///    the material beyond the kinked segment by a line that touches the crack at the
+///    node and crosses the kinked segment (an even count), and parity would give that
+///    material field 0 next to fields 1 and 2 — a third field for a single crack
+///    (issue 22: a notch on a grid line stopped a few steps after it kinked). That
+///    material is joined to the particles on the same side of the kinked segment, and
+///    here it gets their field.
 ///
 /// Zero-length segments (repeated points) are skipped.
 pub fn crossing_detail(points: &[Vector], extent: &Extent, xp: Vector, xn: Vector) -> Option<Crossing> {
@@ -513,6 +525,9 @@ fn crossing_over<I: Iterator<Item = usize> + Clone>(points: &[Vector], extent: &
     let mut count = 0usize;
     // best = (rank, t, side, site); rank 1 = node on crack, rank 0 = at parameter t
     let mut best: Option<(u8, f64, Side, Site)> = None;
+    // The crossing nearest the particle (smallest t; the node itself is t = 1): its side
+    // decides when the node lies on the crack (rule 5 of `crossing_detail`).
+    let mut nearest_particle: Option<(f64, Side)> = None;
     let mut record = |rank: u8, t: f64, side: Side, site: Site| {
         count += 1;
         let better = match best {
@@ -521,6 +536,9 @@ fn crossing_over<I: Iterator<Item = usize> + Clone>(points: &[Vector], extent: &
         };
         if better {
             best = Some((rank, t, side, site));
+        }
+        if nearest_particle.is_none_or(|(bt, _)| t < bt) {
+            nearest_particle = Some((t, side));
         }
     };
 
@@ -625,8 +643,10 @@ fn crossing_over<I: Iterator<Item = usize> + Clone>(points: &[Vector], extent: &
         }
     }
 
-    match best {
-        Some((_, _, side, site)) if count % 2 == 1 => Some(Crossing { side, count, site }),
+    match (best, nearest_particle) {
+        // Node on the crack: always a crossing, on the particle's own side (rule 5).
+        (Some((1, _, _, site)), Some((_, side))) => Some(Crossing { side, count, site }),
+        (Some((_, _, side, site)), _) if count % 2 == 1 => Some(Crossing { side, count, site }),
         _ => None,
     }
 }
@@ -1253,5 +1273,30 @@ mod tests {
             }
         }
         assert!(hits > 1000);
+    }
+
+    /// A node on the straight part of a crack next to a kink (a notch on a grid line
+    /// that has grown a segment at −60°, issue 22): every particle it sees across the
+    /// crack, including those beyond the kinked segment whose lines touch the crack at
+    /// the node and cross the kinked segment, is classified by its own side — two
+    /// fields, 1 above and 2 below, never field 0 next to them.
+    #[test]
+    fn node_on_a_kinked_crack_sees_each_particle_on_its_own_side() {
+        let (s, c) = (60f64.to_radians().sin(), 60f64.to_radians().cos());
+        let kink = [v(-3.0, 0.0), v(0.5, 0.0), v(0.5 + 0.5 * c, -0.5 * s)];
+        let node = v(0.0, 0.0);
+        // Above the straight part, in the wedge below both segments, and beyond the
+        // kinked segment (joined to the material above round the kink).
+        assert_eq!(cross(&kink, v(-0.25, 0.25), node), Side::Above);
+        assert_eq!(cross(&kink, v(-0.25, -0.25), node), Side::Below);
+        assert_eq!(cross(&kink, v(0.75, -0.25), node), Side::Above);
+        assert_eq!(cross(&kink, v(0.75, -0.75), node), Side::Below);
+        // Its mirror image about y = 0 classifies the mirrored particles mirrored.
+        let mirrored: Vec<Vector> = kink.iter().map(|&p| mirror(p)).collect();
+        assert_eq!(cross(&mirrored, v(0.75, 0.25), node), Side::Below);
+        // A node just off the crack keeps the parity rule: beyond the kinked segment is
+        // its own side (field 0) seen from above, across it seen from below.
+        assert_eq!(cross(&kink, v(0.75, -0.25), v(0.0, 1e-9)), Side::None);
+        assert_eq!(cross(&kink, v(0.75, -0.25), v(0.0, -1e-9)), Side::Above);
     }
 }

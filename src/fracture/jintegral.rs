@@ -12,12 +12,31 @@
 //!   from the per-field nodal values of eq. 11 ([`crate::fracture::nodal`]), integrated
 //!   segment by segment with the trapezoidal ("midpoint") rule of eq. 12, n being the
 //!   segment's outward normal.
-//! * **Area term** (eq. 8, on request): ∫_A ρ (ü·∂u/∂x_m − u̇·∂u̇/∂x_m) dA over the
+//! * **Area term** (eq. 8, on request): ∫_A (ρ ü·∂u/∂x_m − ρ u̇·∂u̇/∂x_m) dA over the
 //!   particles inside the rectangle as equally weighted points (ρA = m/thickness), with
 //!   velocity, acceleration and velocity gradient interpolated from the nodal fields of
 //!   each particle's own pairs (the grid velocity, not the particle's own, which carries
-//!   undamped components the grid cannot see — see [`NodalState::kinetic_energy`]). The two-term J is path independent; the line term alone is
-//!   only in the limit of a small contour.
+//!   undamped components the grid cannot see — see [`NodalState::kinetic_energy`]). The
+//!   two-term J is path independent; the line term alone is only in the limit of a small
+//!   contour.
+//! * **Which acceleration** (issue 22): eq. 8 follows from the divergence theorem with
+//!   ∇·σ = ρü, i.e. without body forces, loads or damping. With them, eq. 1 of 004 gives
+//!   ∇·σ = ρü − B + d_k u̇ (B the body force per volume, d_k the damping), and the same
+//!   derivation gives J = line term + ∫_A ((∇·σ)·∂u/∂x_m − ρ u̇·∂u̇/∂x_m) dA: the
+//!   "acceleration" of the area term is (∇·σ)/ρ = ü − B/ρ + (d_k/ρ) u̇, which carries the
+//!   J-integral's body-force term −∫ B·∂u/∂x_m dA and its damping term. On the grid it is
+//!   the total force of eq. 2 less the loads and body forces (eq. 5's first part, eq. 6's
+//!   body force) and less the damping force −κp: (f^tot − f^ext + κp)/M^L
+//!   ([`area_acceleration`]). With f^tot itself a body resting under gravity has no area
+//!   term at all, and its J depends on the contour (tests/j_body_force.rs: 12 % over the
+//!   2×2 … 6×6 contours, 0.9 % with the body-force term).
+//! * **Crack-face contact** stays in that acceleration, as before. Strictly, (∇·σ)/ρ is
+//!   f^int/M^L and the contact impulses are crack-face tractions, which add a face term
+//!   −∫_faces t·∂u/∂x_m ds to J; taking f^int alone would include it. On the stationary
+//!   cases it changes nothing measurable, but on the growing PMMA beam (case pmma_tpb,
+//!   frictionless faces) it moves the crack's advance at 300 µs from 24 to 34 mm (4 mm
+//!   cells) and 18 to 37 mm (2 mm): what contact does at a growing tip is issue 20's
+//!   energy-balance question, and is left to it.
 //! * **Crack-tip coordinates**: x₁′ along the last crack segment, pointing out of the tip;
 //!   x₂′ its counter-clockwise normal. J₁ = J·e₁′ is the energy release rate G for growth
 //!   straight ahead (eq. 10); J₂ = J·e₂′.
@@ -429,7 +448,9 @@ impl Simulation {
 
     /// Area term of eq. 8 over the particles inside the contour's rectangle, in global
     /// coordinates: Σ_p (m_p/B) [a_p·∂u/∂x_m − v_p·∂v/∂x_m], with v_p, a_p and ∂v/∂x from
-    /// the nodal fields of the particle's own pairs.
+    /// the nodal fields of the particle's own pairs, a the acceleration without loads,
+    /// body forces and damping ([`area_acceleration`]; the module doc: the body-force and
+    /// damping terms of J).
     fn area_term(&self, path: &[usize]) -> Vector {
         let g = &self.grid;
         let (mut lo, mut hi) = (g.node_pos(path[0]), g.node_pos(path[0]));
@@ -456,7 +477,7 @@ impl Simulation {
                 let fa = &nodes.fields[pairs.field[k] as usize];
                 let node = pairs.node[k] as usize;
                 let m = fa.mass[node];
-                let (v, a) = (fa.mom[node] / m, fa.ftot[node] / m);
+                let (v, a) = (fa.mom[node] / m, area_acceleration(fa, node, self.options.damping));
                 let (s, gr) = (pairs.s[k], pairs.g[k]);
                 acc[0].add(s * a.x);
                 acc[1].add(s * a.y);
@@ -510,6 +531,14 @@ impl Simulation {
         }
         Ok(out)
     }
+}
+
+/// The acceleration of the J-integral's area term at one field of one node: the total
+/// force of the last step (eq. 2, after contact) less the loads and body forces and less
+/// the damping force −κp, over the mass — (∇·σ)/ρ plus the crack-face contact (module
+/// doc, "Which acceleration").
+pub fn area_acceleration(fa: &crate::grid::FieldArrays, node: usize, kappa: f64) -> Vector {
+    (fa.ftot[node] - fa.fext[node] + fa.mom[node] * kappa) / fa.mass[node]
 }
 
 /// Eqs. 14–15 of Guo & Nairn 2004 (β labels as in [`crate::fracture::speed`]: the

@@ -39,7 +39,9 @@ pub struct NodalState {
     pub displacement: Vector,
     /// Nodal velocity of this field (momentum over mass).
     pub velocity: Vector,
-    /// Nodal acceleration of this field (total force over mass) in the last step.
+    /// The acceleration the J-integral needs: this field's acceleration in the last step
+    /// less the loads, body forces and damping
+    /// ([`crate::fracture::jintegral::area_acceleration`], "Which acceleration").
     pub acceleration: Vector,
 }
 
@@ -101,7 +103,7 @@ impl Simulation {
                 kinetic_energy: 0.5 * v[9] * velocity.norm_squared(),
                 displacement: Vector::new(v[10], v[11]),
                 velocity,
-                acceleration: fa.ftot[node] / m,
+                acceleration: crate::fracture::jintegral::area_acceleration(fa, node, self.options.damping),
             });
         }
         out
