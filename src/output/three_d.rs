@@ -9,7 +9,6 @@ use crate::scene3d::Scene3;
 use crate::simulation::{Energies, Simulation};
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
-use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
@@ -58,8 +57,11 @@ impl HistoryRow3 {
 /// summary.json of a 3D run.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Summary3 {
-    /// completed or interrupted (a failed 3D run returns its error; see the issue note).
+    /// How the run ended; `steps` and `end_time` are the last step completed and its time.
     pub status: RunStatus,
+    /// The error that stopped a failed run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
     pub scene: Scene3,
     pub dimension: usize,
     pub steps: u64,
@@ -116,77 +118,109 @@ pub fn run_scene_3d(scene: &Scene3, opts: &RunOptions) -> anyhow::Result<RunResu
     run_simulation_3d(scene, sim, opts)
 }
 
-/// Run an already built 3D simulation.
+/// Run an already built 3D simulation. As in 2D: history.csv grows row by row as the run
+/// goes, snapshots and particles.pvd are written atomically, and summary.json is written
+/// however the run ends (completed, interrupted by the stop flag, or failed with the
+/// error; a failed run still returns its error).
 pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOptions) -> anyhow::Result<RunResult3> {
     if let Some(dir) = &opts.out_dir {
         prepare_out_dir(dir, opts.force)?;
     }
     let end = scene.solver.end_time;
     let dt = sim.options.dt;
-    let hist_dt = scene.history_interval();
-    let arch_dt = scene.output.archive_interval;
+    // Intervals below one step mean "every step" (the 2D runner warns about them).
+    let hist_dt = scene.history_interval().max(dt);
+    let arch_dt = scene.output.archive_interval.map(|a| a.max(dt));
     let total_steps = ((end / dt) - 0.5).ceil().max(0.0) as u64;
     let bar = if opts.progress { indicatif::ProgressBar::new(total_steps) } else { indicatif::ProgressBar::hidden() };
     let mut history = vec![HistoryRow3::of(&sim)];
+    let mut rows = match &opts.out_dir {
+        Some(dir) => Some(super::RowFile::create(dir.join("history.csv"), HistoryRow3::HEADER)?),
+        None => None,
+    };
+    if let Some(f) = &mut rows {
+        f.row(&history[0].csv())?;
+    }
     let mut next_hist = hist_dt;
     let mut snapshots: Vec<(f64, String)> = Vec::new();
     let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
-    let mut io_error: Option<anyhow::Error> = None;
-    let mut archive = |s: &Simulation<D3>, snapshots: &mut Vec<(f64, String)>| {
+    let archive = |s: &Simulation<D3>, snapshots: &mut Vec<(f64, String)>| -> anyhow::Result<()> {
         if let Some(dir) = &opts.out_dir {
             let name = format!("particles_{:05}.vtk", snapshots.len());
-            match write_snapshot_3d(s, &dir.join(&name)) {
-                Ok(()) => snapshots.push((s.time, name)),
-                Err(e) => {
-                    io_error.get_or_insert(e);
-                }
-            }
+            write_atomically(&dir.join(&name), |tmp| write_snapshot_3d(s, tmp))?;
+            snapshots.push((s.time, name));
+            write_atomically(&dir.join("particles.pvd"), |tmp| write_pvd(tmp, snapshots))?;
         }
+        Ok(())
     };
     if arch_dt.is_some() {
-        archive(&sim, &mut snapshots);
+        archive(&sim, &mut snapshots)?;
     }
+    let (mut done_steps, mut done_time) = (sim.step_count, sim.time);
+    let mut observer_error: Option<anyhow::Error> = None;
     let start = Instant::now();
     let half = 0.5 * dt;
-    let stopped = sim.run_until_stopped(end, |s| {
+    let outcome = sim.run_until_stopped(end, |s| {
         bar.inc(1);
-        if s.time + half >= next_hist {
-            history.push(HistoryRow3::of(s));
-            while next_hist <= s.time + half {
-                next_hist += hist_dt;
+        (done_steps, done_time) = (s.step_count, s.time);
+        let mut record = || -> anyhow::Result<()> {
+            if s.time + half >= next_hist {
+                let row = HistoryRow3::of(s);
+                history.push(row);
+                if let Some(f) = &mut rows {
+                    f.row(&row.csv())?;
+                }
+                while next_hist <= s.time + half {
+                    next_hist += hist_dt;
+                }
             }
-        }
-        if s.time + half >= next_arch {
-            archive(s, &mut snapshots);
-            while next_arch <= s.time + half {
-                next_arch += arch_dt.unwrap_or(f64::INFINITY);
+            if s.time + half >= next_arch {
+                archive(s, &mut snapshots)?;
+                while next_arch <= s.time + half {
+                    next_arch += arch_dt.unwrap_or(f64::INFINITY);
+                }
             }
+            Ok(())
+        };
+        if let Err(e) = record() {
+            observer_error = Some(e);
+            return std::ops::ControlFlow::Break(());
         }
         if opts.stop.as_ref().is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
             return std::ops::ControlFlow::Break(());
         }
         std::ops::ControlFlow::Continue(())
-    })
-    .map_err(|e| anyhow::anyhow!(e))?;
+    });
     let wall = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    if let Some(e) = io_error {
-        return Err(e);
-    }
-    if history.last().map(|h| h.time) != Some(sim.time) {
-        history.push(HistoryRow3::of(&sim));
+    let (failure, stopped) = match outcome {
+        Err(e) => (Some(anyhow::anyhow!(e)), false),
+        Ok(stopped) => (observer_error, stopped),
+    };
+    let status = match (&failure, stopped) {
+        (Some(_), _) => RunStatus::Failed,
+        (None, true) => RunStatus::Interrupted,
+        (None, false) => RunStatus::Completed,
+    };
+    if status != RunStatus::Failed && history.last().map(|h| h.time) != Some(sim.time) {
+        let row = HistoryRow3::of(&sim);
+        history.push(row);
+        if let Some(f) = &mut rows {
+            f.row(&row.csv())?;
+        }
     }
     let summary = Summary3 {
-        status: if stopped { RunStatus::Interrupted } else { RunStatus::Completed },
+        status,
+        error: failure.as_ref().map(|e| format!("{e:#}")),
         scene: scene.clone(),
         dimension: 3,
-        steps: sim.step_count,
+        steps: done_steps,
         dt,
-        end_time: sim.time,
+        end_time: done_time,
         particles: sim.particles.len(),
         nodes: crate::dim::GridGeometry::num_nodes(&sim.grid),
         wall_time_s: wall,
-        particle_steps_per_second: sim.particles.len() as f64 * sim.step_count as f64 / wall.max(1e-12),
+        particle_steps_per_second: sim.particles.len() as f64 * done_steps as f64 / wall.max(1e-12),
         threads: rayon::current_num_threads(),
         checked: sim.options.checked,
         bytes_per_particle: bytes_per_particle_3d(),
@@ -194,18 +228,15 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         final_energies: *history.last().expect("history has the initial row"),
     };
     if let Some(dir) = &opts.out_dir {
-        let path = dir.join("history.csv");
-        let mut f = std::io::BufWriter::new(std::fs::File::create(&path).with_context(|| format!("cannot create {}", path.display()))?);
-        writeln!(f, "{}", HistoryRow3::HEADER)?;
-        for r in &history {
-            writeln!(f, "{}", r.csv())?;
-        }
-        f.flush()?;
-        if !snapshots.is_empty() {
-            write_pvd(&dir.join("particles.pvd"), &snapshots)?;
-        }
         let json = serde_json::to_string_pretty(&summary)?;
         write_atomically(&dir.join("summary.json"), |tmp| std::fs::write(tmp, &json).with_context(|| format!("cannot write {}", tmp.display())))?;
+    }
+    if let Some(e) = failure {
+        let at = format!("the run stopped after step {done_steps} (t = {done_time:e})");
+        return Err(match &opts.out_dir {
+            Some(dir) => e.context(format!("{at}; its outputs up to then and summary.json (status \"failed\") are in {}", dir.display())),
+            None => e.context(at),
+        });
     }
     Ok(RunResult3 { history, summary, sim })
 }

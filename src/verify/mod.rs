@@ -379,8 +379,10 @@ mod tests {
         for c in &Manifest::get().unwrap().cases {
             for s in &c.scenes {
                 let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("verification").join(s);
-                let scene = crate::scene::Scene::from_file(&path).unwrap_or_else(|e| panic!("{s}: {e}"));
-                scene.build().unwrap_or_else(|e| panic!("{s}: {e}"));
+                match crate::scene3d::AnyScene::from_file(&path).unwrap_or_else(|e| panic!("{s}: {e}")) {
+                    crate::scene3d::AnyScene::D2(scene) => drop(scene.build().unwrap_or_else(|e| panic!("{s}: {e}"))),
+                    crate::scene3d::AnyScene::D3(scene) => drop(scene.build().unwrap_or_else(|e| panic!("{s}: {e}"))),
+                }
             }
         }
     }
