@@ -253,6 +253,10 @@ impl<S: Dimension> Simulation<S> {
         let marks = &scratch.marks;
         scratch.chunk_nodes.par_iter_mut().enumerate().for_each(|(c, list)| {
             list.clear();
+            // Which chunk claims a node first is a race between threads, so a list's
+            // length varies from step to step: reserve its bound once, so the step never
+            // allocates (tests/three_d_no_alloc.rs).
+            list.reserve(nn.min(per_chunk * stride));
             for (_, n) in chunk_pairs(c) {
                 // A plain load first: most pairs meet a node already marked, and the
                 // swap (a locked exchange) is needed only to claim a new one.
