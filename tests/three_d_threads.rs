@@ -18,25 +18,16 @@
 
 mod common;
 
-use common::{global_bits_3d, particle_bits_3d, LOADED_3D};
+use common::{global_bits_3d, particle_bits_3d};
 
 const STEPS: usize = 30;
-
-/// `LOADED_3D` with cells of 1/16 and the box widened in x and z.
-fn scene() -> String {
-    let text = LOADED_3D
-        .replace("cell = [0.125, 0.125, 0.125]", "cell = [0.0625, 0.0625, 0.0625]")
-        .replace("min = [0.25, 0.25, 0.25], max = [0.75, 0.5, 0.75]", "min = [0.125, 0.25, 0.125], max = [0.875, 0.5, 0.875]");
-    assert_ne!(text, LOADED_3D);
-    text
-}
 
 /// All bits of a run of the loaded 3D scene in a pool of `threads` (particles in build order).
 fn bits_in_pool(threads: usize) -> Vec<u64> {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
         assert_eq!(rayon::current_num_threads(), threads);
-        let mut sim = common::build_3d(&scene());
+        let mut sim = common::build_3d(&common::loaded_3d_fine());
         assert!(sim.options.checked && sim.particles.len() > 4096, "{} particles", sim.particles.len());
         for _ in 0..STEPS {
             sim.step().unwrap_or_else(|e| panic!("{threads} threads: {e}"));

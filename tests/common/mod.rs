@@ -87,6 +87,18 @@ force = [0.02, 0.01, -0.01]
 ramp = 0.05
 "#;
 
+/// [`LOADED_3D`] with cells of 1/16 and the box widened to 0.75 × 0.25 × 0.75: 5,700
+/// particles, more than the 4096 per chunk of the particle→node pair lists, so 2 threads
+/// build them in 2 chunks.
+#[allow(dead_code)]
+pub fn loaded_3d_fine() -> String {
+    let text = LOADED_3D
+        .replace("cell = [0.125, 0.125, 0.125]", "cell = [0.0625, 0.0625, 0.0625]")
+        .replace("min = [0.25, 0.25, 0.25], max = [0.75, 0.5, 0.75]", "min = [0.125, 0.25, 0.125], max = [0.875, 0.5, 0.875]");
+    assert_ne!(text, LOADED_3D);
+    text
+}
+
 /// The bits of a 3D particle's position, velocity, stress, strain and displacement
 /// gradient (3 + 3 + 6 + 6 + 9 values).
 #[allow(dead_code)]
