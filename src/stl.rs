@@ -31,8 +31,19 @@ pub struct ClosedMesh {
 impl ClosedMesh {
     /// Read an STL file (binary or ASCII) and check that it is closed.
     pub fn read(path: &Path) -> Result<ClosedMesh, String> {
-        let mut file = std::fs::File::open(path).map_err(|e| format!("cannot open: {e}"))?;
-        let mesh = stl_io::read_stl(&mut file).map_err(|e| format!("not a readable STL file: {e}"))?;
+        let mut bytes = std::fs::read(path).map_err(|e| format!("cannot open: {e}"))?;
+        // The size a binary file with this header's triangle count has.
+        let binary_size = bytes.get(80..84).map(|c| 84 + 50 * u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as u64);
+        let size = bytes.len() as u64;
+        if binary_size == Some(size) && bytes.starts_with(b"solid") {
+            // A binary file whose free-form header begins with "solid" (some exporters
+            // write that): blank the word so the reader does not take it for ASCII.
+            bytes[..5].fill(b' ');
+        }
+        let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).map_err(|e| {
+            let binary = binary_size.map(|b| format!("; read as binary, its triangle count needs {b} bytes")).unwrap_or_default();
+            format!("not a readable STL file ({e}): an ASCII STL starts with `solid `, a binary STL has an 80-byte header, a 4-byte triangle count and 50 bytes per triangle; this file has {size} bytes{binary}")
+        })?;
         let vertices: Vec<Vector3> = mesh.vertices.iter().map(|v| Vector3::new(v[0] as f64, v[1] as f64, v[2] as f64)).collect();
         let triangles: Vec<[usize; 3]> = mesh.faces.iter().map(|f| f.vertices).collect();
         ClosedMesh::new(vertices, triangles)
@@ -40,6 +51,9 @@ impl ClosedMesh {
 
     /// Check closure and orientation (see the module documentation).
     pub fn new(vertices: Vec<Vector3>, triangles: Vec<[usize; 3]>) -> Result<ClosedMesh, String> {
+        if let Some(v) = vertices.iter().find(|v| !v.iter().all(|c| c.is_finite())) {
+            return Err(format!("has a vertex with a non-finite coordinate, ({}, {}, {})", v.x, v.y, v.z));
+        }
         if triangles.len() < 4 {
             return Err(format!("has {} triangles; a closed surface needs at least 4", triangles.len()));
         }

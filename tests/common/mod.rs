@@ -122,3 +122,66 @@ pub fn global_bits_3d(sim: &cramp::simulation::Simulation<cramp::dim::D3>) -> Ve
 pub fn build_3d(text: &str) -> cramp::simulation::Simulation<cramp::dim::D3> {
     cramp::scene3d::Scene3::from_toml(text, "test scene", None).unwrap().build().unwrap()
 }
+
+/// The 12 outward-oriented triangles (right-hand rule) of the axis-aligned box
+/// [min, max], in single precision as STL stores them.
+#[allow(dead_code)]
+pub fn box_triangles(min: [f32; 3], max: [f32; 3]) -> Vec<[[f32; 3]; 3]> {
+    let corner = |i: usize| std::array::from_fn(|c| if (i >> c) & 1 == 1 { max[c] } else { min[c] });
+    // Faces z = min, z = max, y = min, y = max, x = min, x = max as quads of corner indices
+    // (bit c of the index set: coordinate c at max), each counter-clockwise seen from outside.
+    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    quads.iter().flat_map(|q| [[corner(q[0]), corner(q[1]), corner(q[2])], [corner(q[0]), corner(q[2]), corner(q[3])]]).collect()
+}
+
+/// Unit normal of a triangle by the right-hand rule (zero for a degenerate triangle).
+fn stl_normal(t: &[[f32; 3]; 3]) -> [f32; 3] {
+    let d = |a: [f32; 3], b: [f32; 3]| [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let (u, v) = (d(t[0], t[1]), d(t[0], t[2]));
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if l > 0.0 {
+        n.map(|x| x / l)
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// An ASCII STL file of the triangles (written here by hand, independently of the reader).
+#[allow(dead_code)]
+pub fn ascii_stl(triangles: &[[[f32; 3]; 3]]) -> String {
+    let mut s = String::from("solid test\n");
+    for t in triangles {
+        let n = stl_normal(t);
+        s += &format!("  facet normal {:e} {:e} {:e}\n    outer loop\n", n[0], n[1], n[2]);
+        for v in t {
+            s += &format!("      vertex {:e} {:e} {:e}\n", v[0], v[1], v[2]);
+        }
+        s += "    endloop\n  endfacet\n";
+    }
+    s + "endsolid test\n"
+}
+
+/// A binary STL file of the triangles: 80-byte header, count, then per triangle the
+/// normal and three vertices as little-endian f32 and a zero attribute word.
+#[allow(dead_code)]
+pub fn binary_stl(triangles: &[[[f32; 3]; 3]]) -> Vec<u8> {
+    let mut b = vec![b' '; 80];
+    b[..12].copy_from_slice(b"binary cramp");
+    b.extend((triangles.len() as u32).to_le_bytes());
+    for t in triangles {
+        for x in stl_normal(t).iter().chain(t.iter().flatten()) {
+            b.extend(x.to_le_bytes());
+        }
+        b.extend([0u8, 0]);
+    }
+    b
+}
+
+/// A fresh directory under the target's temporary directory for one test.
+#[allow(dead_code)]
+pub fn temp_dir(name: &str) -> std::path::PathBuf {
+    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
