@@ -20,7 +20,7 @@
 
 mod common;
 
-use common::{build_3d, global_bits_3d, particle_bits_3d, LOADED_3D};
+use common::{build_3d, global_bits_3d, lcg_permutation, particle_bits_3d, LOADED_3D};
 use cramp::dim::D3;
 use cramp::shape::ShapeKind;
 use cramp::simulation::{DampingOn, Scheme, Simulation};
@@ -28,17 +28,6 @@ use std::collections::HashMap;
 
 const SCHEMES: [Scheme; 4] = [Scheme::Usl, Scheme::Musl, Scheme::Usf, Scheme::Usavg];
 const STEPS: usize = 100;
-
-fn lcg_permutation(n: usize, seed: u64) -> Vec<usize> {
-    let mut perm: Vec<usize> = (0..n).collect();
-    let mut s = seed;
-    for i in (1..n).rev() {
-        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        let j = ((s >> 33) % (i as u64 + 1)) as usize;
-        perm.swap(i, j);
-    }
-    perm
-}
 
 fn by_id(sim: &Simulation<D3>) -> Vec<usize> {
     let mut idx = vec![usize::MAX; sim.particles.len()];

@@ -32,6 +32,20 @@ pub fn verify_case(name: &str, variant: Variant) -> verify::CaseResult {
     result
 }
 
+/// A pseudo-random permutation of 0..n (Fisher–Yates driven by a 64-bit LCG), for the
+/// particle-order tests.
+#[allow(dead_code)]
+pub fn lcg_permutation(n: usize, seed: u64) -> Vec<usize> {
+    let mut perm: Vec<usize> = (0..n).collect();
+    let mut s = seed;
+    for i in (1..n).rev() {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let j = ((s >> 33) % (i as u64 + 1)) as usize;
+        perm.swap(i, j);
+    }
+    perm
+}
+
 /// A small 3D scene that runs every part of the 3D step except cracks: two bodies of
 /// different materials in one velocity field (a box with a sine velocity field and a
 /// body force, and a sphere falling onto it), roller boundary conditions on a node plane
