@@ -25,6 +25,12 @@ fn invalid(field: impl Into<String>, message: impl Into<String>) -> SceneError {
     SceneError::Invalid { field: field.into(), message: message.into() }
 }
 
+/// Most particles a 3D scene may hold: a particle's arrays take about 330 bytes and its
+/// 27 uGIMP node pairs (`Pairs`: node, weight, gradient, field, item, slot) about 1.2 kB,
+/// so this many fill 16 GiB (the limit `validate` puts on the grid's arrays). Checked
+/// while the bodies are filled, before the particle arrays grow.
+const MAX_PARTICLES: usize = (16 << 30) / 1500;
+
 /// A 3D scene.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -597,6 +603,7 @@ impl Scene3 {
                 chi[c] = chi[c].max(i1);
             }
         }
+        let mut filled = 0usize;
         for iz in clo[2]..chi[2] {
             for iy in clo[1]..chi[1] {
                 for ix in clo[0]..chi[0] {
@@ -611,6 +618,13 @@ impl Scene3 {
                                 );
                                 if let Some(k) = self.bodies.iter().enumerate().position(|(k, body)| body.shape.contains(&x, meshes[k].as_ref())) {
                                     owner[k].push(x);
+                                    filled += 1;
+                                    if filled > MAX_PARTICLES {
+                                        return Err(invalid(
+                                            "bodies",
+                                            format!("hold more than {MAX_PARTICLES} particles ({n}³ per cell), which with their node pairs would need more than 16 GiB; use larger cells or fewer particles per cell"),
+                                        ));
+                                    }
                                 }
                             }
                         }
@@ -647,7 +661,8 @@ impl Scene3 {
             }
             for &p in &sel {
                 if particles.load[p] != NO_LOAD {
-                    return Err(invalid(format!("loads[{li}].particles"), format!("selects particle at {:?} already loaded by loads[{}]", particles.x[p], particles.load[p])));
+                    let x = particles.x[p];
+                    return Err(invalid(format!("loads[{li}].particles"), format!("selects the particle at ({}, {}, {}), already loaded by loads[{}]", x.x, x.y, x.z, particles.load[p])));
                 }
                 particles.load[p] = li as u16;
             }

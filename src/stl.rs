@@ -10,11 +10,12 @@
 //! crate, `orient2d` / `orient3d`): a triangle is crossed when the point's (x, y) lies
 //! strictly inside the triangle's projection and the triangle's plane is above the point.
 //! A point exactly on the surface is inside. When the ray meets an edge or vertex of the
-//! projection exactly (a zero `orient2d`), the count is redone along +x, then +y; if all
-//! three rays are degenerate (a point on three special lines at once — it does not happen
-//! for the particle lattice of a general surface), the generalized winding number in
-//! floating point decides (≥ ½ is inside). Every decision is therefore exact except in
-//! that last, documented case.
+//! projection exactly (a zero `orient2d`), the count is redone along +x, then +y. If all
+//! three rays are degenerate (a point on three special lines at once: rare for a general
+//! surface, but every point on an edge of an axis-aligned box meets an edge-on face along
+//! each axis), an exact test decides whether the point lies on a triangle (inside);
+//! otherwise the generalized winding number in floating point decides (≥ ½ is inside).
+//! Every decision is therefore exact except in that last, documented case.
 
 use crate::dim::Vector3;
 use robust::{orient2d, orient3d, Coord, Coord3D};
@@ -31,8 +32,19 @@ pub struct ClosedMesh {
 impl ClosedMesh {
     /// Read an STL file (binary or ASCII) and check that it is closed.
     pub fn read(path: &Path) -> Result<ClosedMesh, String> {
-        let mut file = std::fs::File::open(path).map_err(|e| format!("cannot open: {e}"))?;
-        let mesh = stl_io::read_stl(&mut file).map_err(|e| format!("not a readable STL file: {e}"))?;
+        let mut bytes = std::fs::read(path).map_err(|e| format!("cannot open: {e}"))?;
+        // The size a binary file with this header's triangle count has.
+        let binary_size = bytes.get(80..84).map(|c| 84 + 50 * u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as u64);
+        let size = bytes.len() as u64;
+        if binary_size == Some(size) && bytes.starts_with(b"solid") {
+            // A binary file whose free-form header begins with "solid" (some exporters
+            // write that): blank the word so the reader does not take it for ASCII.
+            bytes[..5].fill(b' ');
+        }
+        let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).map_err(|e| {
+            let binary = binary_size.map(|b| format!("; read as binary, its triangle count needs {b} bytes")).unwrap_or_default();
+            format!("not a readable STL file ({e}): an ASCII STL starts with `solid `, a binary STL has an 80-byte header, a 4-byte triangle count and 50 bytes per triangle; this file has {size} bytes{binary}")
+        })?;
         let vertices: Vec<Vector3> = mesh.vertices.iter().map(|v| Vector3::new(v[0] as f64, v[1] as f64, v[2] as f64)).collect();
         let triangles: Vec<[usize; 3]> = mesh.faces.iter().map(|f| f.vertices).collect();
         ClosedMesh::new(vertices, triangles)
@@ -40,6 +52,9 @@ impl ClosedMesh {
 
     /// Check closure and orientation (see the module documentation).
     pub fn new(vertices: Vec<Vector3>, triangles: Vec<[usize; 3]>) -> Result<ClosedMesh, String> {
+        if let Some(v) = vertices.iter().find(|v| !v.iter().all(|c| c.is_finite())) {
+            return Err(format!("has a vertex with a non-finite coordinate, ({}, {}, {})", v.x, v.y, v.z));
+        }
         if triangles.len() < 4 {
             return Err(format!("has {} triangles; a closed surface needs at least 4", triangles.len()));
         }
@@ -95,7 +110,33 @@ impl ClosedMesh {
                 Ray::Degenerate => {}
             }
         }
-        self.winding_number(x) >= 0.5
+        self.on_surface(x) || self.winding_number(x) >= 0.5
+    }
+
+    /// Does x lie exactly on one of the triangles (boundary included)? Exact: x is in the
+    /// triangle's plane (`orient3d` zero) and inside or on the edges of its projection
+    /// along an axis the triangle is not parallel to.
+    fn on_surface(&self, x: &Vector3) -> bool {
+        let c3 = |p: &Vector3| Coord3D { x: p.x, y: p.y, z: p.z };
+        self.triangles.iter().any(|tri| {
+            let [a, b, c] = tri.map(|i| &self.vertices[i]);
+            if (0..3).any(|k| x[k] < a[k].min(b[k]).min(c[k]) || x[k] > a[k].max(b[k]).max(c[k])) {
+                return false;
+            }
+            if orient3d(c3(a), c3(b), c3(c), c3(x)) != 0.0 {
+                return false;
+            }
+            (0..3).find_map(|axis| {
+                let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                let c2 = |p: &Vector3| Coord { x: p[u], y: p[w] };
+                let area = orient2d(c2(a), c2(b), c2(c));
+                (area != 0.0).then(|| {
+                    let o = [orient2d(c2(a), c2(b), c2(x)), orient2d(c2(b), c2(c), c2(x)), orient2d(c2(c), c2(a), c2(x))];
+                    o.iter().all(|&v| if area > 0.0 { v >= 0.0 } else { v <= 0.0 })
+                })
+            })
+            .unwrap_or(false)
+        })
     }
 
     /// Parity of the crossings of the ray from x along +axis.
@@ -185,6 +226,11 @@ mod tests {
         assert!(!m.contains(&Vector3::new(0.5, 0.5, 1.5)));
         // On the surface: inside.
         assert!(m.contains(&Vector3::new(0.25, 0.75, 1.0)));
+        // On an edge and at a corner every ray is degenerate (an edge-on face along each
+        // axis); the exact on-surface test decides, not the winding number (¼ and ⅛ there).
+        assert!(m.contains(&Vector3::new(0.0, 0.0, 0.5)));
+        assert!(m.contains(&Vector3::new(1.0, 1.0, 1.0)));
+        assert!(!m.contains(&Vector3::new(1.0, 1.0, 1.5)));
     }
 
     #[test]

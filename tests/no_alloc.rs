@@ -6,8 +6,8 @@
 //! to the scene's size, `Simulation::step` calls the allocator zero times. Tolerance:
 //! none (a count of 0).
 //!
-//! A counting global allocator wraps `std::alloc::System` and counts `alloc`,
-//! `alloc_zeroed` and `realloc` calls while a flag is set. The scene is the performance
+//! A counting global allocator (tests/common/counting_alloc.rs) wraps `std::alloc::System`
+//! and counts `alloc`, `alloc_zeroed` and `realloc` calls while a flag is set. The scene is the performance
 //! scene verification/dcb_perf.toml (9600 particles, a crack, uGIMP, USAVG, damping, end
 //! loads), unchecked and checked; after a warm-up the next steps are counted, one
 //! `sim.step()` at a time, inside a 1-thread and a 2-thread rayon pool (the whole loop
@@ -28,67 +28,10 @@
 //! Set `CRAMP_ALLOC_TRACE=1` to print a backtrace of each counted allocation (the first
 //! few), which names the allocating site.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
-use std::sync::Mutex;
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
 
-struct Counting;
-
-static COUNTING: AtomicBool = AtomicBool::new(false);
-static CALLS: AtomicU64 = AtomicU64::new(0);
-static TRACE: AtomicBool = AtomicBool::new(false);
-static TRACED: AtomicUsize = AtomicUsize::new(0);
-static TRACES: Mutex<Vec<std::backtrace::Backtrace>> = Mutex::new(Vec::new());
-/// Backtraces kept in trace mode (symbolised only at the end).
-const MAX_TRACES: usize = 2000;
-
-thread_local! {
-    /// Set while this thread records a backtrace, whose own allocations are not counted.
-    static IN_TRACE: Cell<bool> = const { Cell::new(false) };
-}
-
-impl Counting {
-    #[inline]
-    fn record(&self) {
-        if !COUNTING.load(Ordering::Relaxed) {
-            return;
-        }
-        if IN_TRACE.with(|t| t.get()) {
-            return;
-        }
-        CALLS.fetch_add(1, Ordering::Relaxed);
-        if TRACE.load(Ordering::Relaxed) && TRACED.fetch_add(1, Ordering::Relaxed) < MAX_TRACES {
-            IN_TRACE.with(|t| t.set(true));
-            let bt = std::backtrace::Backtrace::force_capture();
-            if let Ok(mut v) = TRACES.lock() {
-                v.push(bt);
-            }
-            IN_TRACE.with(|t| t.set(false));
-        }
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        self.record();
-        System.alloc(layout)
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        self.record();
-        System.alloc_zeroed(layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        self.record();
-        System.realloc(ptr, layout, new_size)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-}
-
-#[global_allocator]
-static ALLOC: Counting = Counting;
+use counting_alloc::{count_each, print_allocation_sites, trace_if_requested};
 
 const WARMUP: usize = 20;
 const COUNTED: usize = 20;
@@ -112,15 +55,7 @@ fn allocations_per_step(threads: usize, checked: bool) -> Vec<u64> {
         for _ in 0..WARMUP {
             sim.step().unwrap();
         }
-        let mut counts = Vec::with_capacity(COUNTED);
-        for _ in 0..COUNTED {
-            CALLS.store(0, Ordering::SeqCst);
-            COUNTING.store(true, Ordering::SeqCst);
-            let r = sim.step();
-            COUNTING.store(false, Ordering::SeqCst);
-            counts.push(CALLS.load(Ordering::SeqCst));
-            r.unwrap();
-        }
+        let counts = count_each(COUNTED, || sim.step());
         // The run did something: the arms are opening.
         let c = &sim.cracks[0];
         assert!(sim.energies().strain > 0.0 && (0..c.points.len()).any(|k| c.opening_nt(k).0 > 0.0));
@@ -130,7 +65,7 @@ fn allocations_per_step(threads: usize, checked: bool) -> Vec<u64> {
 
 #[test]
 fn the_time_step_does_not_allocate() {
-    TRACE.store(std::env::var_os("CRAMP_ALLOC_TRACE").is_some(), Ordering::SeqCst);
+    trace_if_requested();
     let mut failures = Vec::new();
     for checked in [false, true] {
         for threads in [1, 2] {
@@ -144,39 +79,4 @@ fn the_time_step_does_not_allocate() {
     }
     print_allocation_sites();
     assert!(failures.is_empty(), "{failures:#?}");
-}
-
-/// Trace mode: the counted allocations grouped by the innermost cramp function (outside
-/// `cramp::exact`) on their stack, with one full backtrace per group.
-fn print_allocation_sites() {
-    let traces = std::mem::take(&mut *TRACES.lock().unwrap());
-    if traces.is_empty() {
-        return;
-    }
-    let mut groups: Vec<(String, usize, String)> = Vec::new();
-    for bt in &traces {
-        let text = bt.to_string();
-        let lines: Vec<&str> = text.lines().collect();
-        let mut site = String::from("(no cramp frame)");
-        for (k, l) in lines.iter().enumerate() {
-            // Frames read "  N: function", followed by "at file:line".
-            let Some((n, f)) = l.trim_start().split_once(": ") else { continue };
-            if n.chars().all(|c| c.is_ascii_digit()) && f.contains("cramp::") && !f.contains("cramp::exact") {
-                let at = lines.get(k + 1).map(|a| a.trim()).unwrap_or("");
-                site = format!("{f}  {at}");
-                break;
-            }
-        }
-        match groups.iter_mut().find(|g| g.0 == site) {
-            Some(g) => g.1 += 1,
-            None => groups.push((site, 1, text)),
-        }
-    }
-    eprintln!("allocation sites of the first {} counted allocations:", traces.len());
-    for (site, n, _) in &groups {
-        eprintln!("{n:6}  {site}");
-    }
-    for (site, _, text) in &groups {
-        eprintln!("\n--- {site}\n{text}");
-    }
 }

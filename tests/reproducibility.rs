@@ -20,6 +20,7 @@
 
 mod common;
 
+use common::lcg_permutation;
 use cramp::scene::Scene;
 use cramp::simulation::{Scheme, Simulation};
 use std::collections::HashMap;
@@ -71,17 +72,6 @@ particles = { region = { min = [0.7, 0.2], max = [0.8, 0.5] } }
 force = [0.02, 0.01]
 ramp = 0.05
 "#;
-
-fn lcg_permutation(n: usize, seed: u64) -> Vec<usize> {
-    let mut perm: Vec<usize> = (0..n).collect();
-    let mut s = seed;
-    for i in (1..n).rev() {
-        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        let j = ((s >> 33) % (i as u64 + 1)) as usize;
-        perm.swap(i, j);
-    }
-    perm
-}
 
 fn by_id(sim: &Simulation) -> Vec<usize> {
     let mut idx = vec![usize::MAX; sim.particles.len()];
