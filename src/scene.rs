@@ -462,6 +462,89 @@ fn positive(field: &str, x: f64) -> Result<(), SceneError> {
     }
 }
 
+/// The checks of `[solver]` and `[output]` that do not depend on the dimension (2D and 3D
+/// scenes share them).
+pub(crate) fn validate_solver(s: &SolverSpec, output: &OutputSpec) -> Result<(), SceneError> {
+    positive("solver.end_time", s.end_time)?;
+    if let Some(cfl) = s.cfl {
+        positive("solver.cfl", cfl)?;
+        let limit = stable_cfl(s.scheme);
+        if cfl > limit {
+            return Err(invalid(
+                "solver.cfl",
+                format!(
+                    "must be at most {limit}, the measured stability limit of the {} scheme (case cfl_sweep; docs/scene.md), got {cfl}",
+                    format!("{:?}", s.scheme).to_uppercase()
+                ),
+            ));
+        }
+    }
+    if let Some(dt) = s.dt {
+        positive("solver.dt", dt)?;
+    }
+    finite("solver.damping", s.damping)?;
+    if s.damping < 0.0 {
+        return Err(invalid("solver.damping", format!("must be zero or positive, got {}", s.damping)));
+    }
+    if s.particles_per_cell == 0 || s.particles_per_cell > 8 {
+        return Err(invalid("solver.particles_per_cell", format!("must be 1 to 8, got {}", s.particles_per_cell)));
+    }
+    if let Some(h) = output.history_interval {
+        positive("output.history_interval", h)?;
+    }
+    if let Some(a) = output.archive_interval {
+        positive("output.archive_interval", a)?;
+    }
+    Ok(())
+}
+
+/// The time step must advance time and the run must end in a sane number of steps:
+/// dt positive and finite (an overflowing wave speed gives 0), end_time at least half
+/// a step (a run of 0 steps is a mistake), at most `solver.max_steps` steps, and the
+/// explicit damping κΔt below 1 (above, −κp removes more than the momentum in one step).
+/// `speeds` are the materials' dilatational wave speeds and `materials` their (E, ρ),
+/// for the message when the time step is not a number.
+pub(crate) fn validate_time_step(s: &SolverSpec, dt: f64, speeds: &[f64], materials: &[(f64, f64)]) -> Result<(), SceneError> {
+    let dt_field = if s.dt.is_some() { "solver.dt" } else { "solver.cfl" };
+    if !(dt > 0.0 && dt.is_finite()) {
+        // The fastest material (a NaN speed, from inf/inf, sorts above every number).
+        let (k, c) = speeds.iter().copied().enumerate().max_by(|a, b| a.1.total_cmp(&b.1)).unwrap_or((0, 0.0));
+        let (e, rho) = materials.get(k).copied().unwrap_or((f64::NAN, f64::NAN));
+        return Err(invalid(
+            format!("materials[{k}]"),
+            format!("E = {:e} and rho = {:e} give a dilatational wave speed of {c:e}, so the time step cfl × cell / c_d is {dt:e}; use values whose ratio is a finite number", e, rho),
+        ));
+    }
+    let steps = (s.end_time / dt - 0.5).ceil();
+    if steps < 1.0 {
+        return Err(invalid("solver.end_time", format!("{:e} is shorter than half the time step dt = {dt:e}: the run would take no step", s.end_time)));
+    }
+    let max_steps = s.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
+    if steps > max_steps as f64 {
+        return Err(invalid(
+            "solver.end_time",
+            format!(
+                "{:e} takes {steps:e} steps of dt = {dt:e} ({dt_field}), more than solver.max_steps = {max_steps}; \
+                 check end_time and the time step, or raise solver.max_steps to allow the run",
+                s.end_time
+            ),
+        ));
+    }
+    if s.damping * dt >= 1.0 {
+        return Err(invalid(
+            "solver.damping",
+            format!(
+                "κ = {:e} with dt = {dt:e} gives κ·dt = {:e} ≥ 1: the explicit damping force −κp would remove more than \
+                 the whole momentum in one step; use κ < 1/dt = {:e}",
+                s.damping,
+                s.damping * dt,
+                1.0 / dt
+            ),
+        ));
+    }
+    Ok(())
+}
+
 impl Scene {
     /// Read and validate a scene file.
     pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
@@ -491,37 +574,7 @@ impl Scene {
                 return Err(invalid(format!("grid.size[{c}]"), format!("{n} cells is too many")));
             }
         }
-        let s = &self.solver;
-        positive("solver.end_time", s.end_time)?;
-        if let Some(cfl) = s.cfl {
-            positive("solver.cfl", cfl)?;
-            let limit = stable_cfl(s.scheme);
-            if cfl > limit {
-                return Err(invalid(
-                    "solver.cfl",
-                    format!(
-                        "must be at most {limit}, the measured stability limit of the {} scheme (case cfl_sweep; docs/scene.md), got {cfl}",
-                        format!("{:?}", s.scheme).to_uppercase()
-                    ),
-                ));
-            }
-        }
-        if let Some(dt) = s.dt {
-            positive("solver.dt", dt)?;
-        }
-        finite("solver.damping", s.damping)?;
-        if s.damping < 0.0 {
-            return Err(invalid("solver.damping", format!("must be zero or positive, got {}", s.damping)));
-        }
-        if s.particles_per_cell == 0 || s.particles_per_cell > 8 {
-            return Err(invalid("solver.particles_per_cell", format!("must be 1 to 8, got {}", s.particles_per_cell)));
-        }
-        if let Some(h) = self.output.history_interval {
-            positive("output.history_interval", h)?;
-        }
-        if let Some(a) = self.output.archive_interval {
-            positive("output.archive_interval", a)?;
-        }
+        validate_solver(&self.solver, &self.output)?;
         if self.materials.is_empty() {
             return Err(invalid("materials", "at least one material is required"));
         }
@@ -653,7 +706,7 @@ impl Scene {
                     return Err(invalid(format!("cracks[{i}].contact.friction.mu"), format!("must be zero or positive, got {mu}")));
                 }
             }
-            if s.crack_method == CrackMethod::Visibility && c.contact != ContactSpec::None {
+            if self.solver.crack_method == CrackMethod::Visibility && c.contact != ContactSpec::None {
                 return Err(invalid(
                     format!("cracks[{i}].contact"),
                     "solver.crack_method = \"visibility\" has one velocity field per node and no crack contact; \
@@ -684,55 +737,9 @@ impl Scene {
                 return Err(invalid(f("points"), format!("must be 2 to 100000 (both ends are sampled), got {}", p.points)));
             }
         }
-        self.validate_time_step()
-    }
-
-    /// The time step must advance time and the run must end in a sane number of steps:
-    /// dt positive and finite (an overflowing wave speed gives 0), end_time at least half
-    /// a step (a run of 0 steps is a mistake), at most `solver.max_steps` steps, and the
-    /// explicit damping κΔt below 1 (above, −κp removes more than the momentum in one step).
-    fn validate_time_step(&self) -> Result<(), SceneError> {
-        let s = &self.solver;
-        let dt = self.time_step();
-        let dt_field = if s.dt.is_some() { "solver.dt" } else { "solver.cfl" };
-        if !(dt > 0.0 && dt.is_finite()) {
-            let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
-            // The fastest material (a NaN speed, from inf/inf, sorts above every number).
-            let (k, c) = speeds.iter().copied().enumerate().max_by(|a, b| a.1.total_cmp(&b.1)).unwrap_or((0, 0.0));
-            let m = &self.materials[k];
-            return Err(invalid(
-                format!("materials[{k}]"),
-                format!("E = {:e} and rho = {:e} give a dilatational wave speed of {c:e}, so the time step cfl × cell / c_d is {dt:e}; use values whose ratio is a finite number", m.e, m.rho),
-            ));
-        }
-        let steps = (s.end_time / dt - 0.5).ceil();
-        if steps < 1.0 {
-            return Err(invalid("solver.end_time", format!("{:e} is shorter than half the time step dt = {dt:e}: the run would take no step", s.end_time)));
-        }
-        let max_steps = s.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
-        if steps > max_steps as f64 {
-            return Err(invalid(
-                "solver.end_time",
-                format!(
-                    "{:e} takes {steps:e} steps of dt = {dt:e} ({dt_field}), more than solver.max_steps = {max_steps}; \
-                     check end_time and the time step, or raise solver.max_steps to allow the run",
-                    s.end_time
-                ),
-            ));
-        }
-        if s.damping * dt >= 1.0 {
-            return Err(invalid(
-                "solver.damping",
-                format!(
-                    "κ = {:e} with dt = {dt:e} gives κ·dt = {:e} ≥ 1: the explicit damping force −κp would remove more than \
-                     the whole momentum in one step; use κ < 1/dt = {:e}",
-                    s.damping,
-                    s.damping * dt,
-                    1.0 / dt
-                ),
-            ));
-        }
-        Ok(())
+        let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
+        let mats: Vec<(f64, f64)> = self.materials.iter().map(|m| (m.e, m.rho)).collect();
+        validate_time_step(&self.solver, self.time_step(), &speeds, &mats)
     }
 
     pub fn grid(&self) -> Grid {

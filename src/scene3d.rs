@@ -420,30 +420,7 @@ impl Scene3 {
         if bytes > 16.0 * (1u64 << 30) as f64 {
             return Err(invalid("grid.size", format!("{nodes:.3e} nodes would need about {:.0} GiB for the nodal arrays alone; use fewer or larger cells", bytes / (1u64 << 30) as f64)));
         }
-        let s = &self.solver;
-        positive("solver.end_time", s.end_time)?;
-        if let Some(cfl) = s.cfl {
-            positive("solver.cfl", cfl)?;
-            if cfl > 1.0 {
-                return Err(invalid("solver.cfl", format!("must be at most 1 (a fraction of the CFL limit), got {cfl}")));
-            }
-        }
-        if let Some(dt) = s.dt {
-            positive("solver.dt", dt)?;
-        }
-        finite("solver.damping", s.damping)?;
-        if s.damping < 0.0 {
-            return Err(invalid("solver.damping", format!("must be zero or positive, got {}", s.damping)));
-        }
-        if s.particles_per_cell == 0 || s.particles_per_cell > 8 {
-            return Err(invalid("solver.particles_per_cell", format!("must be 1 to 8, got {}", s.particles_per_cell)));
-        }
-        if let Some(h) = self.output.history_interval {
-            positive("output.history_interval", h)?;
-        }
-        if let Some(a) = self.output.archive_interval {
-            positive("output.archive_interval", a)?;
-        }
+        crate::scene::validate_solver(&self.solver, &self.output)?;
         if self.materials.is_empty() {
             return Err(invalid("materials", "at least one material is required"));
         }
@@ -544,7 +521,9 @@ impl Scene3 {
                 return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive and finite, got {}", l.ramp)));
             }
         }
-        Ok(())
+        let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
+        let mats: Vec<(f64, f64)> = self.materials.iter().map(|m| (m.e, m.rho)).collect();
+        crate::scene::validate_time_step(&self.solver, self.time_step(), &speeds, &mats)
     }
 
     pub fn grid(&self) -> Grid3 {

@@ -378,3 +378,15 @@ fn binary_runs_the_base_3d_scene() {
     std::fs::remove_dir_all(dir).ok();
 }
 
+
+/// The time-step checks 2D and 3D share (scene::validate_time_step): a run of no step, a
+/// run beyond solver.max_steps, and explicit damping with κ·dt ≥ 1 are errors naming the
+/// field, in a 3D scene as in 2D.
+#[test]
+fn time_step_that_cannot_run_is_named_in_3d() {
+    let base = BASE.to_string();
+    let end = base.lines().find(|l| l.trim_start().starts_with("end_time")).expect("the base scene has an end_time").to_string();
+    expect_invalid(&base.replace(&end, "end_time = 1e-12"), None, "solver.end_time", &["no step"]);
+    expect_invalid(&base.replace(&end, "end_time = 1e9"), None, "solver.end_time", &["solver.max_steps"]);
+    expect_invalid(&base.replace(&end, &format!("{end}\ndamping = 1e12")), None, "solver.damping", &["κ·dt"]);
+}
