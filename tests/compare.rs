@@ -131,6 +131,8 @@ fn structural_mismatches_are_clear_errors() {
                 PointArray::Scalar(v) => drop(v.pop()),
                 PointArray::Vector(v) => drop(v.pop()),
                 PointArray::Tensor(v) => drop(v.pop()),
+                PointArray::Vector3(v) => drop(v.pop()),
+                PointArray::Tensor3(v) => drop(v.pop()),
             }
         }
     });
@@ -270,5 +272,134 @@ fn text_columns_compare_as_text() {
         "{}",
         f.worst_at
     );
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+// ---------------------------------------------------------------------------
+// 3D runs (issue 14)
+// ---------------------------------------------------------------------------
+
+/// The colliding-spheres scene, coarsened (cell 0.1: 560 particles) and shortened
+/// (end time 0.2: 5 steps, 3 snapshots, 5 history rows).
+fn run_spheres_3d(dir: &Path) {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/verification/colliding_spheres_3d.toml")).unwrap();
+    let mut scene = cramp::scene3d::Scene3::from_toml(&text, "spheres", None).unwrap();
+    scene.grid.cell = [0.1; 3];
+    scene.solver.end_time = 0.2;
+    scene.output.history_interval = Some(0.05);
+    scene.output.archive_interval = Some(0.1);
+    cramp::output::three_d::run_scene_3d(&scene, &RunOptions { out_dir: Some(dir.to_path_buf()), ..Default::default() }).unwrap();
+}
+
+/// Rewrite one 3D snapshot of a run with `edit` applied to particle `id`'s position
+/// and arrays (given as the particle's index in the file).
+fn edit_snapshot_3d(path: &Path, edit: impl FnOnce(usize, &mut Vec<cramp::dim::Vector3>, &mut Vec<(String, PointArray)>)) {
+    let mut s = vtk::read_points_3d(path).unwrap();
+    let Some(PointArray::Scalar(ids)) = s.array("id") else { panic!("no id array") };
+    let k = ids.iter().position(|&x| x == 17.0).unwrap();
+    edit(k, &mut s.positions, &mut s.arrays);
+    let data: Vec<(&str, vtk::PointData)> = s.arrays.iter().map(|(n, a)| (n.as_str(), a.as_point_data())).collect();
+    vtk::write_points_3d(path, &s.title, &s.positions, &data).unwrap();
+}
+
+/// A value changed by one part in 1e9 (or by 1e-9 where it is 0).
+fn nudge(x: f64) -> f64 {
+    x + 1e-9 * x.abs().max(1.0)
+}
+
+/// The only field with violations of a comparison that has exactly one violation.
+fn single_violation(c: &cramp::verify::compare::Comparison) -> &cramp::verify::compare::FieldDiff {
+    assert_eq!(c.violations(), 1, "{}", c.render());
+    c.fields.iter().find(|f| f.violations > 0).unwrap()
+}
+
+#[test]
+fn three_d_runs_compare_in_every_component() {
+    let root = scratch("3d");
+    let (a, b) = (root.join("a"), root.join("b"));
+    run_spheres_3d(&a);
+    run_spheres_3d(&b);
+
+    // Two runs of the same scene agree bit for bit, in every 3D component.
+    let c = compare_runs(&a, &b, Tolerance::default()).unwrap();
+    println!("{}", c.render());
+    assert!(c.agree(), "{}", c.render());
+    assert_eq!(c.snapshots, ["particles_00000.vtk", "particles_00001.vtk", "particles_00002.vtk"]);
+    assert_eq!(c.history_rows, 5);
+    let names: Vec<&str> = c.fields.iter().map(|f| f.field.as_str()).collect();
+    for f in [
+        "history.momentum_z",
+        "particles.position.z",
+        "particles.velocity.z",
+        "particles.displacement.z",
+        "particles.stress.xz",
+        "particles.stress.yz",
+        "particles.strain.xz",
+        "particles.strain.yz",
+    ] {
+        assert!(names.contains(&f), "{f} missing from {names:?}");
+    }
+    // Every component of every particle of every snapshot is compared: 3 position, 3 × 2
+    // vector and 6 × 2 tensor components and 2 scalars per particle, 9 history columns.
+    let particles: usize = c.particles;
+    assert_eq!(c.compared() as usize, 3 * particles * (3 + 6 + 12 + 2) + 5 * 9);
+    let (code, stdout, _) = cramp(&["compare", a.to_str().unwrap(), b.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stdout}");
+    assert!(stdout.contains("particles.stress.xz\t"), "{stdout}");
+
+    // One z coordinate moved: exactly one violation, in particles.position.z.
+    let z = root.join("z");
+    copy_dir(&b, &z);
+    edit_snapshot_3d(&z.join("particles_00001.vtk"), |k, pos, _| pos[k].z = nudge(pos[k].z));
+    let c = compare_runs(&z, &b, Tolerance::default()).unwrap();
+    let f = single_violation(&c);
+    assert_eq!(f.field, "particles.position.z");
+    assert!(f.worst_at.starts_with("particles_00001.vtk particle id 17 "), "{}", f.worst_at);
+    let (code, stdout, _) = cramp(&["compare", z.to_str().unwrap(), b.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stdout}");
+    assert!(stdout.contains("worst violation of particles.position.z: particles_00001.vtk particle id 17"), "{stdout}");
+
+    // One xz stress changed (both mirrored entries, so the tensor stays symmetric).
+    let s = root.join("s");
+    copy_dir(&b, &s);
+    edit_snapshot_3d(&s.join("particles_00002.vtk"), |k, _, arrays| {
+        let Some((_, PointArray::Tensor3(t))) = arrays.iter_mut().find(|(n, _)| n == "stress") else { panic!("no 3D stress") };
+        t[k].xz = nudge(t[k].xz);
+    });
+    let c = compare_runs(&s, &b, Tolerance::default()).unwrap();
+    let f = single_violation(&c);
+    assert_eq!(f.field, "particles.stress.xz");
+    assert!(f.worst_at.starts_with("particles_00002.vtk particle id 17 "), "{}", f.worst_at);
+
+    // One momentum_z of the history changed.
+    let h = root.join("h");
+    copy_dir(&b, &h);
+    let text = std::fs::read_to_string(h.join("history.csv")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let column = lines[0].split(',').position(|c| c == "momentum_z").unwrap();
+    let mut cells: Vec<String> = lines[2].split(',').map(String::from).collect();
+    cells[column] = format!("{:e}", nudge(cells[column].parse::<f64>().unwrap()));
+    lines[2] = cells.join(",");
+    std::fs::write(h.join("history.csv"), lines.join("\n") + "\n").unwrap();
+    let c = compare_runs(&h, &b, Tolerance::default()).unwrap();
+    let f = single_violation(&c);
+    assert_eq!(f.field, "history.momentum_z");
+    assert!(f.worst_at.starts_with("history.csv row 2 (t = "), "{}", f.worst_at);
+
+    // A 2D run and a 3D run cannot be compared: their history columns differ.
+    let d2 = root.join("d2");
+    run_demo(&d2);
+    let e = format!("{:#}", compare_runs(&d2, &b, Tolerance::default()).unwrap_err());
+    assert!(e.contains("history.csv columns differ"), "{e}");
+
+    // Without momentum_z the runs are declared 2D, and the 3D snapshots are refused as
+    // malformed 2D files (the rule of docs/compare.md), not silently projected.
+    for run in [&a, &b] {
+        let text = std::fs::read_to_string(run.join("history.csv")).unwrap();
+        let cut: Vec<String> = text.lines().map(|l| l.rsplit_once(',').unwrap().0.to_string()).collect();
+        std::fs::write(run.join("history.csv"), cut.join("\n") + "\n").unwrap();
+    }
+    let e = format!("{:#}", compare_runs(&a, &b, Tolerance::default()).unwrap_err());
+    assert!(e.contains("particles_00000.vtk") && e.contains("expected an out-of-plane 0"), "{e}");
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -1,5 +1,5 @@
 //! `cramp compare` on the outputs of every scene the verification suite runs: each
-//! verification/*.toml scene and the scenes the quick cases generate (crack growth, J and
+//! verification/*.toml scene (2D and 3D) and the scenes the quick cases generate (crack growth, J and
 //! K, friction, plates), shortened to a few steps with a row and a snapshot at most steps.
 //!
 //! Reference: equality. Two runs of the same scene are bit-identical (the solver's sums are
@@ -10,8 +10,10 @@
 //! involved.
 
 use cramp::output::vtk::{self, PointArray};
+use cramp::output::three_d::run_scene_3d;
 use cramp::output::{run_scene, RunOptions};
 use cramp::scene::Scene;
+use cramp::scene3d::AnyScene;
 use cramp::verify::cases;
 use cramp::verify::compare::{compare_runs, Tolerance};
 use std::path::{Path, PathBuf};
@@ -23,7 +25,7 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 /// Every scene of verification/ and those the quick cases build, by name.
-fn scenes() -> Vec<(String, Scene)> {
+fn scenes() -> Vec<(String, AnyScene)> {
     let mut out = Vec::new();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("verification");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -37,12 +39,9 @@ fn scenes() -> Vec<(String, Scene)> {
         if name == "cases" {
             continue;
         }
-        // 2D scenes here; 3D runs are compared in tests/compare.rs.
-        if let cramp::scene3d::AnyScene::D2(scene) = cramp::scene3d::AnyScene::from_file(&f).unwrap() {
-            out.push((name, scene));
-        }
+        out.push((name, AnyScene::from_file(&f).unwrap()));
     }
-    let text = |name: &str, t: String| (name.to_string(), Scene::from_toml(&t, name).unwrap());
+    let text = |name: &str, t: String| (name.to_string(), AnyScene::D2(Scene::from_toml(&t, name).unwrap()));
     out.push(text("pmma_tpb", cases::growth::three_point_bend(4.0, 0.0, "max_hoop_stress", 1.0)));
     out.push(text("mode_ii_kink", cases::growth::shear_plate(1.0, 1.0, 1.0)));
     out.push(text("dcb_growth", cases::growth::dcb_growth_scene(2.0)));
@@ -51,22 +50,63 @@ fn scenes() -> Vec<(String, Scene)> {
         "crack_friction",
         cases::cracks::block_on_crack(1.0, [0.001, -0.01], 1.0, 2.0, "{ friction = { mu = 0.3 } }"),
     ));
-    out.push(("chen_early_time".to_string(), cases::fracture::chen_scene(0.5, 1.0).unwrap()));
+    out.push(("chen_early_time".to_string(), AnyScene::D2(cases::fracture::chen_scene(0.5, 1.0).unwrap())));
     out
 }
 
 /// The scene cut to 6 steps, a history row every step and a snapshot every other step.
-fn shortened(mut s: Scene) -> Scene {
-    let dt = s.time_step();
-    s.solver.end_time = 6.0 * dt;
-    s.output.history_interval = Some(dt);
-    s.output.archive_interval = Some(2.0 * dt);
-    s
+fn shortened(mut scene: AnyScene) -> AnyScene {
+    let (dt, solver, output) = match &mut scene {
+        AnyScene::D2(s) => (s.time_step(), &mut s.solver, &mut s.output),
+        AnyScene::D3(s) => (s.time_step(), &mut s.solver, &mut s.output),
+    };
+    solver.end_time = 6.0 * dt;
+    output.history_interval = Some(dt);
+    output.archive_interval = Some(2.0 * dt);
+    scene
 }
 
-fn run(scene: &Scene, dir: &Path) {
-    run_scene(scene, &RunOptions { out_dir: Some(dir.to_path_buf()), checked: Some(true), ..Default::default() })
-        .unwrap();
+fn run(scene: &AnyScene, dir: &Path) {
+    let opts = RunOptions { out_dir: Some(dir.to_path_buf()), checked: Some(true), ..Default::default() };
+    match scene {
+        AnyScene::D2(s) => drop(run_scene(s, &opts).unwrap()),
+        AnyScene::D3(s) => drop(run_scene_3d(s, &opts).unwrap()),
+    }
+}
+
+/// The arrays of a snapshot as the writer takes them.
+fn data(arrays: &[(String, PointArray)]) -> Vec<(&str, vtk::PointData<'_>)> {
+    arrays.iter().map(|(n, a)| (n.as_str(), a.as_point_data())).collect()
+}
+
+/// The `stress` array of a snapshot, if any.
+fn stress(arrays: &mut [(String, PointArray)]) -> Option<&mut PointArray> {
+    arrays.iter_mut().find(|(n, _)| n == "stress").map(|(_, a)| a)
+}
+
+/// Change the middle particle's shear stress in a snapshot: xy in 2D, xz in 3D (a
+/// component only a 3D file has). Returns the field compare must name.
+fn perturb_stress(path: &Path, scene: &AnyScene) -> &'static str {
+    match scene {
+        AnyScene::D2(_) => {
+            let mut s = vtk::read_points(path).unwrap();
+            if let Some(PointArray::Tensor(t)) = stress(&mut s.arrays) {
+                let k = t.len() / 2;
+                t[k].xy = nudge(t[k].xy);
+            }
+            vtk::write_points(path, &s.title, &s.positions, &data(&s.arrays)).unwrap();
+            "particles.stress.xy"
+        }
+        AnyScene::D3(_) => {
+            let mut s = vtk::read_points_3d(path).unwrap();
+            if let Some(PointArray::Tensor3(t)) = stress(&mut s.arrays) {
+                let k = t.len() / 2;
+                t[k].xz = nudge(t[k].xz);
+            }
+            vtk::write_points_3d(path, &s.title, &s.positions, &data(&s.arrays)).unwrap();
+            "particles.stress.xz"
+        }
+    }
 }
 
 fn copy_dir(from: &Path, to: &Path) {
@@ -158,15 +198,8 @@ fn every_verification_scene_compares_equal_to_itself_and_finds_one_perturbed_val
                 }
             } else if Some(file) == names.iter().rfind(|f| f.starts_with("particles_")) {
                 copy_dir(&b, &p);
-                let mut s = vtk::read_points(p.join(file)).unwrap();
-                if let Some((_, PointArray::Tensor(t))) = s.arrays.iter_mut().find(|(n, _)| n == "stress") {
-                    let k = t.len() / 2;
-                    t[k].xy = nudge(t[k].xy);
-                }
-                let data: Vec<(&str, vtk::PointData)> =
-                    s.arrays.iter().map(|(n, a)| (n.as_str(), a.as_point_data())).collect();
-                vtk::write_points(p.join(file), &s.title, &s.positions, &data).unwrap();
-                one_violation(&p, &b, "particles.stress.xy", &format!("{name}: {file}"));
+                let field = perturb_stress(&p.join(file), &scene);
+                one_violation(&p, &b, field, &format!("{name}: {file}"));
                 perturbations += 1;
             }
         }

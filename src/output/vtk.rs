@@ -8,8 +8,19 @@
 //! * [`write_polylines`] — crack paths as `LINES` cells with named `CELL_DATA`
 //!   scalars (one value per line).
 //!
-//! [`read_points`] reads back a file written by [`write_points`]; `cramp compare`
-//! uses it to diff two runs field by field.
+//! [`read_points`] reads back a file written by [`write_points`], and
+//! [`read_points_3d`] one written by [`write_points_3d`]; `cramp compare` uses them
+//! to diff two runs field by field.
+//!
+//! ## The reader is told the dimension
+//!
+//! A legacy VTK file always holds three coordinates per point, so the file alone
+//! does not say whether it is 2D or 3D. The caller says so: [`read_points`] reads a
+//! 2D file and rejects any non-zero out-of-plane component (z of a point or vector,
+//! xz/yz/zx/zy of a tensor) as a malformed file, with the line; [`read_points_3d`]
+//! reads every component as written, into [`PointArray::Vector3`] and
+//! [`PointArray::Tensor3`]. `cramp compare` takes the dimension of a run from its
+//! `history.csv` (a `momentum_z` column means 3D, see `docs/compare.md`).
 //!
 //! ## Numbers are written exactly
 //!
@@ -103,6 +114,10 @@ pub enum PointArray {
     Scalar(Vec<f64>),
     Vector(Vec<Vector>),
     Tensor(Vec<Sym>),
+    /// A vector array of a 3D file ([`read_points_3d`]).
+    Vector3(Vec<Vector3>),
+    /// A tensor array of a 3D file ([`read_points_3d`]).
+    Tensor3(Vec<Sym3>),
 }
 
 impl PointArray {
@@ -112,20 +127,23 @@ impl PointArray {
             PointArray::Scalar(v) => PointData::Scalar(v),
             PointArray::Vector(v) => PointData::Vector(v),
             PointArray::Tensor(v) => PointData::Tensor(v),
+            PointArray::Vector3(v) => PointData::Vector3(v),
+            PointArray::Tensor3(v) => PointData::Tensor3(v),
         }
     }
 }
 
-/// The content of a file written by [`write_points`].
+/// The content of a file written by [`write_points`] (`P = Vector`) or
+/// [`write_points_3d`] (`P = Vector3`).
 #[derive(Clone, Debug, PartialEq)]
-pub struct PointSnapshot {
+pub struct PointSnapshot<P = Vector> {
     pub title: String,
-    pub positions: Vec<Vector>,
+    pub positions: Vec<P>,
     /// The arrays in file order, with their names.
     pub arrays: Vec<(String, PointArray)>,
 }
 
-impl PointSnapshot {
+impl<P> PointSnapshot<P> {
     /// The array with this name, if present.
     pub fn array(&self, name: &str) -> Option<&PointArray> {
         self.arrays.iter().find(|(n, _)| n == name).map(|(_, a)| a)
@@ -380,6 +398,33 @@ pub fn read_points(path: impl AsRef<Path>) -> anyhow::Result<PointSnapshot> {
 
 /// [`read_points`] on text already in memory.
 pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
+    let (title, xyz, arrays) = parse_points_xyz(text, false)?;
+    let positions = xyz.iter().map(|p| Vector::new(p[0], p[1])).collect();
+    Ok(PointSnapshot { title, positions, arrays })
+}
+
+/// Read a file written by [`write_points_3d`]: every coordinate and component as
+/// written, bit-identical; vectors as [`PointArray::Vector3`], tensors as
+/// [`PointArray::Tensor3`] (checked symmetric). Otherwise as strict as [`read_points`].
+pub fn read_points_3d(path: impl AsRef<Path>) -> anyhow::Result<PointSnapshot<Vector3>> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("reading VTK file {}", path.display()))?;
+    parse_points_3d(&text).with_context(|| format!("parsing VTK file {}", path.display()))
+}
+
+/// [`read_points_3d`] on text already in memory.
+pub fn parse_points_3d(text: &str) -> anyhow::Result<PointSnapshot<Vector3>> {
+    let (title, xyz, arrays) = parse_points_xyz(text, true)?;
+    let positions = xyz.iter().map(|p| Vector3::new(p[0], p[1], p[2])).collect();
+    Ok(PointSnapshot { title, positions, arrays })
+}
+
+/// The parser behind [`parse_points`] (`three_d = false`: out-of-plane components
+/// must be 0, arrays are 2D) and [`parse_points_3d`]: title, (x, y, z) of each
+/// point, and the arrays.
+#[allow(clippy::type_complexity)]
+fn parse_points_xyz(text: &str, three_d: bool) -> anyhow::Result<(String, Vec<[f64; 3]>, Vec<(String, PointArray)>)> {
     // 1. The four header lines.
     let mut lines = text.lines();
     let mut header_line = |expected: Option<&str>| -> anyhow::Result<String> {
@@ -402,7 +447,7 @@ pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
     let body_start_line = 5;
     let mut tokens = Tokens::new(lines, body_start_line);
 
-    // POINTS n double, then n (x, y, 0) triples.
+    // POINTS n double, then n (x, y, z) triples, z = 0 in 2D.
     tokens.expect("POINTS")?;
     let n: usize = tokens.parse()?;
     tokens.expect("double")?;
@@ -414,8 +459,8 @@ pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
     let mut positions = Vec::with_capacity(n);
     for _ in 0..n {
         let (x, y) = (tokens.float()?, tokens.float()?);
-        tokens.expect_zero()?;
-        positions.push(Vector::new(x, y));
+        let z = if three_d { tokens.float()? } else { tokens.expect_zero()? };
+        positions.push([x, y, z]);
     }
 
     // VERTICES n 2n, then "1 i" for i in 0..n.
@@ -443,8 +488,14 @@ pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
                 tokens.expect("default")?;
                 PointArray::Scalar((0..n).map(|_| tokens.float()).collect::<Result<_, _>>()?)
             }
+            "VECTORS" if three_d => {
+                PointArray::Vector3((0..n).map(|_| tokens.vector3()).collect::<Result<_, _>>()?)
+            }
             "VECTORS" => {
                 PointArray::Vector((0..n).map(|_| tokens.vector()).collect::<Result<_, _>>()?)
+            }
+            "TENSORS" if three_d => {
+                PointArray::Tensor3((0..n).map(|_| tokens.tensor3()).collect::<Result<_, _>>()?)
             }
             "TENSORS" => {
                 PointArray::Tensor((0..n).map(|_| tokens.tensor()).collect::<Result<_, _>>()?)
@@ -457,11 +508,7 @@ pub fn parse_points(text: &str) -> anyhow::Result<PointSnapshot> {
         arrays.push((name, array));
     }
 
-    Ok(PointSnapshot {
-        title,
-        positions,
-        arrays,
-    })
+    Ok((title, positions, arrays))
 }
 
 /// Whitespace-separated tokens with the line they come from, for error messages.
@@ -543,8 +590,8 @@ impl<'t> Tokens<'t> {
     }
 
     /// A component the writer always writes as zero (z of a point or vector,
-    /// out-of-plane shear of a tensor).
-    fn expect_zero(&mut self) -> anyhow::Result<()> {
+    /// out-of-plane shear of a tensor in a 2D file); returns it (±0).
+    fn expect_zero(&mut self) -> anyhow::Result<f64> {
         let x = self.float()?;
         if x != 0.0 {
             bail!(
@@ -552,7 +599,7 @@ impl<'t> Tokens<'t> {
                 self.line
             );
         }
-        Ok(())
+        Ok(x)
     }
 
     fn vector(&mut self) -> anyhow::Result<Vector> {
@@ -577,6 +624,32 @@ impl<'t> Tokens<'t> {
             );
         }
         Ok(Sym { xx, yy, zz, xy })
+    }
+
+    fn vector3(&mut self) -> anyhow::Result<Vector3> {
+        Ok(Vector3::new(self.float()?, self.float()?, self.float()?))
+    }
+
+    /// A 3×3 tensor written as `[[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]`; the
+    /// mirrored entries must have the same bits.
+    fn tensor3(&mut self) -> anyhow::Result<Sym3> {
+        let mut m = [[0.0; 3]; 3];
+        for row in m.iter_mut() {
+            for x in row.iter_mut() {
+                *x = self.float()?;
+            }
+        }
+        for (name, (i, j)) in [("xy", (0, 1)), ("xz", (0, 2)), ("yz", (1, 2))] {
+            let (a, b) = (m[i][j], m[j][i]);
+            if a.to_bits() != b.to_bits() {
+                let mirrored: String = name.chars().rev().collect();
+                bail!(
+                    "line {}: tensor is not symmetric ({name} = {a:e}, {mirrored} = {b:e})",
+                    self.line
+                );
+            }
+        }
+        Ok(Sym3 { xx: m[0][0], yy: m[1][1], zz: m[2][2], xy: m[0][1], xz: m[0][2], yz: m[1][2] })
     }
 }
 
@@ -849,6 +922,70 @@ TENSORS stress double
             let err = parse_points(&text).unwrap_err();
             assert!(err.to_string().contains("non-finite"), "{err}");
         }
+    }
+
+    #[test]
+    fn round_trip_3d_is_bit_exact() {
+        let dir = temp_dir("roundtrip3d");
+        let path = dir.join("p.vtk");
+        let a = awkward();
+        let n = a.len();
+        let at = |i: usize| a[i % n];
+        let pos: Vec<Vector3> = (0..n).map(|i| Vector3::new(at(i), at(i + 1), at(i + 2))).collect();
+        let vel: Vec<Vector3> = (0..n).map(|i| Vector3::new(at(i + 3), -at(i), at(i + 7))).collect();
+        let sym: Vec<Sym3> = (0..n)
+            .map(|i| Sym3 { xx: at(i), yy: at(i + 1), zz: at(i + 2), xy: at(i + 3), xz: at(i + 4), yz: at(i + 5) })
+            .collect();
+        let id: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let data = [("id", PointData::Scalar(&id)), ("v", PointData::Vector3(&vel)), ("sigma", PointData::Tensor3(&sym))];
+        write_points_3d(&path, "round trip 3d", &pos, &data).unwrap();
+
+        let snap = read_points_3d(&path).unwrap();
+        let v_bits = |p: &[Vector3]| p.iter().flat_map(|v| bits(&[v.x, v.y, v.z])).collect::<Vec<_>>();
+        assert_eq!(v_bits(&snap.positions), v_bits(&pos));
+        assert_eq!(snap.array("id"), Some(&PointArray::Scalar(id.clone())));
+        match snap.array("v").unwrap() {
+            PointArray::Vector3(v) => assert_eq!(v_bits(v), v_bits(&vel)),
+            other => panic!("wrong kind {other:?}"),
+        }
+        match snap.array("sigma").unwrap() {
+            PointArray::Tensor3(t) => {
+                let s_bits = |t: &[Sym3]| t.iter().flat_map(|s| bits(&[s.xx, s.yy, s.zz, s.xy, s.xz, s.yz])).collect::<Vec<_>>();
+                assert_eq!(s_bits(t), s_bits(&sym));
+            }
+            other => panic!("wrong kind {other:?}"),
+        }
+        // Written back out: the same bytes.
+        let path2 = dir.join("p2.vtk");
+        let data: Vec<(&str, PointData)> = snap.arrays.iter().map(|(n, a)| (n.as_str(), a.as_point_data())).collect();
+        write_points_3d(&path2, &snap.title, &snap.positions, &data).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), std::fs::read(&path2).unwrap());
+
+        // The 2D reader refuses the 3D file (a non-zero z), naming the line.
+        let err = read_points(&path).unwrap_err();
+        assert!(format!("{err:#}").contains("expected an out-of-plane 0"), "{err:#}");
+    }
+
+    #[test]
+    fn reader_3d_rejects_files_it_did_not_write() {
+        let good = "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 1 double\n1e0 2e0 3e0\nVERTICES 1 2\n1 0\nPOINT_DATA 1\nTENSORS s double\n1e0 2e0 3e0\n2e0 4e0 5e0\n3e0 5e0 6e0\n";
+        let snap = parse_points_3d(good).unwrap();
+        assert_eq!(snap.positions, vec![Vector3::new(1.0, 2.0, 3.0)]);
+        let expected = Sym3 { xx: 1.0, yy: 4.0, zz: 6.0, xy: 2.0, xz: 3.0, yz: 5.0 };
+        assert_eq!(snap.array("s"), Some(&PointArray::Tensor3(vec![expected])));
+        // Each pair of mirrored entries is checked, and named.
+        for (old, new, name) in [("2e0 4e0 5e0", "2.5e0 4e0 5e0", "xy"), ("3e0 5e0 6e0", "3.5e0 5e0 6e0", "xz"), ("3e0 5e0 6e0", "3e0 5.5e0 6e0", "yz")] {
+            let err = parse_points_3d(&good.replace(old, new)).unwrap_err().to_string();
+            assert!(err.contains("not symmetric") && err.contains(&format!("({name} = ")), "{err}");
+        }
+        let err = parse_points_3d(&good.replace("1e0 2e0 3e0\nVERTICES", "1e0 2e0 inf\nVERTICES")).unwrap_err();
+        assert!(err.to_string().contains("non-finite") && err.to_string().contains("line 6"), "{err}");
+        let err = parse_points_3d(&good.replace("POINTS 1", "POINTS 1000000000000")).unwrap_err();
+        assert!(err.to_string().contains("POINTS announces"), "{err}");
+        assert!(parse_points_3d(&good.replace("6e0\n", "")).is_err());
+        // A 2D file is a 3D file with zero out-of-plane components.
+        let two_d = "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 1 double\n1e0 2e0 0e0\nVERTICES 1 2\n1 0\n";
+        assert_eq!(parse_points_3d(two_d).unwrap().positions, vec![Vector3::new(1.0, 2.0, 0.0)]);
     }
 
     #[test]

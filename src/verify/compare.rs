@@ -7,6 +7,12 @@
 //! present, columns of numbers within the tolerance and text columns (`tip`, `status`)
 //! for equality; crack polylines (`cracks_*.vtk`) are listed but not compared yet.
 //!
+//! 2D and 3D runs are compared alike. A run is 3D when its `history.csv` has a
+//! `momentum_z` column (both runs must have the same columns, so the same dimension);
+//! its snapshots are then read with [`vtk::read_points_3d`] and compared in x, y, z and
+//! all six tensor components, a 2D run's with [`vtk::read_points`] (which rejects a
+//! non-zero out-of-plane component).
+//!
 //! A value agrees when |a − b| ≤ atol + rtol·|b| (b from RUN_B, the reference run). With
 //! the defaults rtol = atol = 0 that is equality: bit-identical up to the sign of zero.
 //! NaN never agrees. The two runs must have the same structure (history columns and row
@@ -14,7 +20,7 @@
 //! error naming what differs. `docs/compare.md` documents the files a code must write to
 //! be compared.
 
-use crate::output::vtk::{self, PointArray, PointSnapshot};
+use crate::output::vtk::{self, PointArray};
 use anyhow::{bail, Context};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -304,19 +310,55 @@ fn components(array: &PointArray) -> Vec<(&'static str, Component<'_>)> {
             (".zz", Box::new(move |i| v[i].zz)),
             (".xy", Box::new(move |i| v[i].xy)),
         ],
+        PointArray::Vector3(v) => vec![
+            (".x", Box::new(move |i| v[i].x)),
+            (".y", Box::new(move |i| v[i].y)),
+            (".z", Box::new(move |i| v[i].z)),
+        ],
+        PointArray::Tensor3(v) => vec![
+            (".xx", Box::new(move |i| v[i].xx)),
+            (".yy", Box::new(move |i| v[i].yy)),
+            (".zz", Box::new(move |i| v[i].zz)),
+            (".xy", Box::new(move |i| v[i].xy)),
+            (".xz", Box::new(move |i| v[i].xz)),
+            (".yz", Box::new(move |i| v[i].yz)),
+        ],
     }
 }
 
 fn kind(a: &PointArray) -> &'static str {
     match a {
         PointArray::Scalar(_) => "scalar",
-        PointArray::Vector(_) => "vector",
-        PointArray::Tensor(_) => "tensor",
+        PointArray::Vector(_) | PointArray::Vector3(_) => "vector",
+        PointArray::Tensor(_) | PointArray::Tensor3(_) => "tensor",
+    }
+}
+
+/// A particle snapshot read in the run's dimension: the positions (as a vector array)
+/// and the named arrays.
+struct Snapshot {
+    positions: PointArray,
+    arrays: Vec<(String, PointArray)>,
+}
+
+impl Snapshot {
+    fn read(path: &Path, three_d: bool) -> anyhow::Result<Self> {
+        Ok(if three_d {
+            let s = vtk::read_points_3d(path)?;
+            Snapshot { positions: PointArray::Vector3(s.positions), arrays: s.arrays }
+        } else {
+            let s = vtk::read_points(path)?;
+            Snapshot { positions: PointArray::Vector(s.positions), arrays: s.arrays }
+        })
+    }
+
+    fn array(&self, name: &str) -> Option<&PointArray> {
+        self.arrays.iter().find(|(n, _)| n == name).map(|(_, a)| a)
     }
 }
 
 /// Particle ids of a snapshot (the `id` array, integers), with a clear error otherwise.
-fn ids(s: &PointSnapshot, file: &str, run: &str) -> anyhow::Result<Vec<u64>> {
+fn ids(s: &Snapshot, file: &str, run: &str) -> anyhow::Result<Vec<u64>> {
     let Some(PointArray::Scalar(id)) = s.array("id") else {
         bail!("{run}/{file} has no scalar array 'id': particles cannot be matched");
     };
@@ -359,7 +401,7 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
     if !ca.iter().any(|f| f == "history.csv") {
         bail!("{ra} has no history.csv (is it a run directory?)");
     }
-    let mut history_rows = 0;
+    let (mut history_rows, mut three_d) = (0, false);
     for file in &ca {
         let (ha, hb) = (read_csv(&run_a.join(file))?, read_csv(&run_b.join(file))?);
         if ha.columns != hb.columns {
@@ -370,6 +412,7 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
         }
         if file == "history.csv" {
             history_rows = ha.rows.len();
+            three_d = ha.columns.iter().any(|c| c == "momentum_z");
         }
         let stem = file.trim_end_matches(".csv");
         let (pa, pb) = (run_a.join(file), run_b.join(file));
@@ -413,7 +456,7 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
     let (fa, not_compared): (Vec<String>, Vec<String>) = va.into_iter().partition(|f| is_particle_snapshot(f));
     let mut particles = 0;
     for file in &fa {
-        let (sa, sb) = (vtk::read_points(run_a.join(file))?, vtk::read_points(run_b.join(file))?);
+        let (sa, sb) = (Snapshot::read(&run_a.join(file), three_d)?, Snapshot::read(&run_b.join(file), three_d)?);
         let (ia, ib) = (ids(&sa, file, &ra)?, ids(&sb, file, &rb)?);
         let index_b: HashMap<u64, usize> = ib.iter().enumerate().map(|(i, &id)| (id, i)).collect();
         let set_a: std::collections::HashSet<u64> = ia.iter().copied().collect();
@@ -450,9 +493,7 @@ pub fn compare_runs(run_a: &Path, run_b: &Path, tol: Tolerance) -> anyhow::Resul
         if sorted_a != sorted_b {
             bail!("{file}: the arrays differ: {ra} has [{}], {rb} has [{}]", names_a.join(", "), names_b.join(", "));
         }
-        let pos_a = PointArray::Vector(sa.positions.clone());
-        let pos_b = PointArray::Vector(sb.positions.clone());
-        let mut pairs: Vec<(&str, &PointArray, &PointArray)> = vec![("position", &pos_a, &pos_b)];
+        let mut pairs: Vec<(&str, &PointArray, &PointArray)> = vec![("position", &sa.positions, &sb.positions)];
         for (name, a) in &sa.arrays {
             let b = sb.array(name).expect("same array names");
             if kind(a) != kind(b) {
