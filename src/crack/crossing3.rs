@@ -252,6 +252,8 @@ pub struct TriangleIndex {
     items: Vec<u32>,
     /// Bucket range (lo, hi inclusive) of each triangle.
     range: Vec<[[u32; 3]; 2]>,
+    /// Bounding box of each triangle (exact: minima and maxima of its corners).
+    aabb: Vec<[Vector3; 2]>,
 }
 
 impl TriangleIndex {
@@ -265,9 +267,11 @@ impl TriangleIndex {
         self.inv = Vector3::from_fn(|c, _| if ext[c] > 0.0 { n[c] as f64 / ext[c] } else { 0.0 });
         self.n = n;
         self.range.clear();
+        self.aabb.clear();
         for t in triangles {
             let (tl, th) = t.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), &i| (l.inf(&points[i as usize]), h.sup(&points[i as usize])));
             self.range.push([self.bucket_of(&tl), self.bucket_of(&th)]);
+            self.aabb.push([tl, th]);
         }
         let nb = n[0] * n[1] * n[2];
         self.start.clear();
@@ -304,8 +308,8 @@ impl TriangleIndex {
         })
     }
 
-    /// Every triangle whose bucket range meets the buckets of the closed box [lo, hi],
-    /// once each.
+    /// Every triangle whose closed bounding box meets the closed box [lo, hi], once each
+    /// (a triangle that misses the box cannot meet a segment inside it).
     pub fn near(&self, lo: &Vector3, hi: &Vector3, mut f: impl FnMut(usize)) {
         if self.start.is_empty() {
             return;
@@ -319,7 +323,10 @@ impl TriangleIndex {
                 let r = &self.range[t as usize];
                 // Report only in the first bucket of the overlap of the two ranges.
                 if (0..3).all(|c| bc[c] == r[0][c].max(ql[c])) {
-                    f(t as usize);
+                    let [tl, th] = &self.aabb[t as usize];
+                    if (0..3).all(|c| tl[c] <= hi[c] && th[c] >= lo[c]) {
+                        f(t as usize);
+                    }
                 }
             }
         });

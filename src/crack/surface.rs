@@ -174,7 +174,7 @@ impl PlaneBasis {
 
 /// Newell's normal of a closed polygon (its direction follows the right-hand rule of the
 /// point order; its length is twice the area).
-fn newell_normal(points: &[Vector3]) -> Vector3 {
+pub fn newell_normal(points: &[Vector3]) -> Vector3 {
     let mut n = Vector3::zeros();
     for (k, a) in points.iter().enumerate() {
         let b = points[(k + 1) % points.len()];
@@ -207,6 +207,9 @@ pub fn planar_polygon(points: &[Vector3], max_edge: f64) -> Result<TriangleSurfa
         if off.abs() > 1e-9 * size {
             return Err(format!("point {k} ({}, {}, {}) is {off:e} off the plane of the polygon: a crack polygon must be planar", p.x, p.y, p.z));
         }
+    }
+    if let Some(surface) = parallelogram_lattice(points, max_edge) {
+        return Ok(surface);
     }
     // Boundary in plane coordinates, each side divided evenly.
     let plane: Vec<[f64; 2]> = points.iter().map(|p| basis.to_plane(p)).collect();
@@ -255,6 +258,41 @@ pub fn planar_polygon(points: &[Vector3], max_edge: f64) -> Result<TriangleSurfa
         area *= 0.5;
     }
     Err(format!("could not mesh the polygon with edges at most {max_edge}"))
+}
+
+/// A parallelogram (four points, opposite sides equal to 1e-12 of its size; a rectangle
+/// is one) is meshed on a regular lattice: corners a, b, c, d, m × n cells of spacing at
+/// most `max_edge`/√2 along a → b and a → d (so the diagonals are at most `max_edge`),
+/// vertex (i, j) at a + (i/m)(b − a) + (j/n)(d − a), each cell split along its (i, j) →
+/// (i+1, j+1) diagonal. Along an axis-aligned side this places the crack particles where
+/// the 2D `crack::subdivide` places them for a spacing of `max_edge`/√2, and a crack
+/// extruded from a 2D one is cut by every plane across the extrusion in the 2D polyline
+/// (the 2D ↔ 3D comparisons rely on it). None for other polygons.
+fn parallelogram_lattice(points: &[Vector3], max_edge: f64) -> Option<TriangleSurface> {
+    let [a, b, c, d] = <[Vector3; 4]>::try_from(points).ok()?;
+    let size = (c - a).norm().max((d - b).norm());
+    if (c - b - (d - a)).norm() > 1e-12 * size {
+        return None;
+    }
+    let spacing = max_edge / std::f64::consts::SQRT_2;
+    let (ab, ad) = (b - a, d - a);
+    let m = ((ab.norm() / spacing).ceil() as usize).max(1);
+    let n = ((ad.norm() / spacing).ceil() as usize).max(1);
+    let mut vertices = Vec::with_capacity((m + 1) * (n + 1));
+    for j in 0..=n {
+        for i in 0..=m {
+            vertices.push(a + ab * (i as f64 / m as f64) + ad * (j as f64 / n as f64));
+        }
+    }
+    let v = |i: usize, j: usize| (i + (m + 1) * j) as u32;
+    let mut triangles = Vec::with_capacity(2 * m * n);
+    for j in 0..n {
+        for i in 0..m {
+            triangles.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
+            triangles.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
+        }
+    }
+    TriangleSurface::new(vertices, triangles).ok()
 }
 
 /// Remove vertices no triangle uses (spade keeps none, but a refinement may), renumbering.

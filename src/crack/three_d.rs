@@ -264,19 +264,26 @@ fn closest_on_triangle(x: &Vector3, a: &Vector3, b: &Vector3, c: &Vector3) -> (V
 }
 
 /// The triangle of `crack` nearest x within `reach` (ties: lowest index), with the
-/// barycentric coordinates of the nearest point.
+/// barycentric coordinates of the nearest point. Searched in boxes of growing size
+/// (reach/4, reach/2, reach): a triangle found at distance d ≤ r in the box of half-size r
+/// is the nearest of all, since every triangle closer than d meets that box.
 fn nearest_triangle(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> Option<(usize, [f64; 3])> {
-    let r = Vector3::repeat(reach);
-    let mut best: Option<(f64, usize, [f64; 3])> = None;
-    index.near(&(x - r), &(x + r), |t| {
-        let [a, b, c] = crack.surface.triangles[t].map(|i| crack.surface.vertices[i as usize]);
-        let (q, bary) = closest_on_triangle(x, &a, &b, &c);
-        let d = (x - q).norm_squared();
-        if d <= reach * reach && best.is_none_or(|(bd, bt, _)| d < bd || (d == bd && t < bt)) {
-            best = Some((d, t, bary));
+    for r in [0.25 * reach, 0.5 * reach, reach] {
+        let rv = Vector3::repeat(r);
+        let mut best: Option<(f64, usize, [f64; 3])> = None;
+        index.near(&(x - rv), &(x + rv), |t| {
+            let [a, b, c] = crack.surface.triangles[t].map(|i| crack.surface.vertices[i as usize]);
+            let (q, bary) = closest_on_triangle(x, &a, &b, &c);
+            let d = (x - q).norm_squared();
+            if d <= r * r && best.is_none_or(|(bd, bt, _)| d < bd || (d == bd && t < bt)) {
+                best = Some((d, t, bary));
+            }
+        });
+        if let Some((_, t, b)) = best {
+            return Some((t, b));
         }
-    });
-    best.map(|(_, t, b)| (t, b))
+    }
+    None
 }
 
 /// +1 above, −1 below the crack near x, 0 unknown: the exact side of x relative to the
@@ -380,7 +387,19 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
         {
             let index = &this.scratch.crack_index3[c];
             let shape: &Crack3 = &*crack;
-            let node_side = |i: usize| side_of(shape, index, &this.grid.node_pos(i), reach);
+            // The geometric side of every node the crack's points touch, once per step
+            // (sorted by node; looked up by binary search).
+            let mut touched: Vec<u32> = Vec::new();
+            let mut node = [0u32; D3::MAX_NODES];
+            let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
+            for x in shape.above.iter().chain(&shape.below) {
+                let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
+                touched.extend_from_slice(&node[..n]);
+            }
+            touched.sort_unstable();
+            touched.dedup();
+            let sides: Vec<i8> = touched.par_iter().map(|&i| side_of(shape, index, &this.grid.node_pos(i as usize), reach)).collect();
+            let node_side = |i: usize| touched.binary_search(&(i as u32)).map_or(0, |k| sides[k]);
             let side = |i: usize, above: bool| {
                 let nodes = &this.nodes;
                 super::side_field(nodes.present[i], nodes.crack[i], c, above, || node_side(i)).map(|f| nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
