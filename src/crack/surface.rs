@@ -101,6 +101,92 @@ impl TriangleSurface {
         (edges, verts)
     }
 
+    /// Check that the surface can be a crack (used for meshes and STL files; the planar
+    /// forms satisfy both by construction): every connected piece has a boundary, and no
+    /// two triangles that share no corner meet.
+    ///
+    /// A closed piece (every edge in two triangles) is refused: it has no front, and the
+    /// material it encloses would be cut loose from the rest of the body, which is a
+    /// separate body, not a crack. Self-intersection is found exactly (orient3d/orient2d of
+    /// the `robust` crate; two triangles meet iff an edge of one meets the other, closed
+    /// sets) for the pairs whose bounding boxes overlap (a sweep along x). Triangles that
+    /// share a corner are not tested against each other.
+    pub fn check_crack(&self) -> Result<(), String> {
+        self.check_open()?;
+        self.check_embedded()
+    }
+
+    fn check_open(&self) -> Result<(), String> {
+        // Union-find over triangles joined by a shared edge.
+        let n = self.triangles.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn root(parent: &mut [usize], mut t: usize) -> usize {
+            while parent[t] != t {
+                parent[t] = parent[parent[t]];
+                t = parent[t];
+            }
+            t
+        }
+        let mut first: HashMap<(u32, u32), usize> = HashMap::with_capacity(3 * n);
+        for (t, tri) in self.triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                match first.get(&(a.min(b), a.max(b))) {
+                    Some(&u) => {
+                        let (ru, rt) = (root(&mut parent, u), root(&mut parent, t));
+                        parent[ru.max(rt)] = ru.min(rt);
+                    }
+                    None => {
+                        first.insert((a.min(b), a.max(b)), t);
+                    }
+                }
+            }
+        }
+        let mut open = vec![false; n];
+        for (_, _, t) in self.boundary_edges() {
+            let r = root(&mut parent, t);
+            open[r] = true;
+        }
+        for t in 0..n {
+            let r = root(&mut parent, t);
+            if r == t && !open[t] {
+                let size = (0..n).filter(|&u| root(&mut parent, u) == t).count();
+                return Err(format!(
+                    "the piece of {size} triangles containing triangle {t} is a closed surface: a crack must have a boundary \
+                     (its front or the body's surface); a closed surface has no front and would cut the material inside it \
+                     loose — model that material as its own body"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn check_embedded(&self) -> Result<(), String> {
+        let tri = |t: usize| self.triangles[t].map(|i| self.vertices[i as usize]);
+        let boxes: Vec<(Vector3, Vector3)> = (0..self.triangles.len())
+            .map(|t| {
+                let [a, b, c] = tri(t);
+                (a.inf(&b).inf(&c), a.sup(&b).sup(&c))
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..boxes.len()).collect();
+        order.sort_by(|&s, &t| boxes[s].0.x.total_cmp(&boxes[t].0.x).then(s.cmp(&t)));
+        for (k, &s) in order.iter().enumerate() {
+            for &t in &order[k + 1..] {
+                if boxes[t].0.x > boxes[s].1.x {
+                    break;
+                }
+                let overlap = (1..3).all(|a| boxes[t].0[a] <= boxes[s].1[a] && boxes[s].0[a] <= boxes[t].1[a]);
+                let shared = self.triangles[s].iter().any(|v| self.triangles[t].contains(v));
+                if overlap && !shared && triangles_meet(&tri(s), &tri(t)) {
+                    let (a, b) = (s.min(t), s.max(t));
+                    return Err(format!("triangles {a} and {b} intersect (they share no corner): a crack surface must not cut itself"));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Axis-aligned bounding box of the vertices.
     pub fn bounds(&self) -> (Vector3, Vector3) {
         self.vertices.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(lo, hi), v| (lo.inf(v), hi.sup(v)))
@@ -114,6 +200,60 @@ impl TriangleSurface {
             .map(|(a, b)| (self.vertices[a as usize] - self.vertices[b as usize]).norm())
             .fold(0.0, f64::max)
     }
+}
+
+/// Exact sign of orient3d (robust).
+fn o3(a: &Vector3, b: &Vector3, c: &Vector3, d: &Vector3) -> i8 {
+    let q = |v: &Vector3| robust::Coord3D { x: v.x, y: v.y, z: v.z };
+    let o = robust::orient3d(q(a), q(b), q(c), q(d));
+    (o > 0.0) as i8 - (o < 0.0) as i8
+}
+
+/// Exact sign of orient2d (robust).
+fn o2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+    let q = |v: [f64; 2]| robust::Coord { x: v[0], y: v[1] };
+    let o = robust::orient2d(q(a), q(b), q(c));
+    (o > 0.0) as i8 - (o < 0.0) as i8
+}
+
+/// Signs that are not all ≥ 0 or all ≤ 0.
+fn mixed(s: [i8; 3]) -> bool {
+    s.iter().any(|&x| x > 0) && s.iter().any(|&x| x < 0)
+}
+
+/// Whether two closed triangles meet, exactly: iff an edge of one meets the other.
+pub fn triangles_meet(t: &[Vector3; 3], u: &[Vector3; 3]) -> bool {
+    (0..3).any(|k| segment_meets_triangle(&t[k], &t[(k + 1) % 3], u)) || (0..3).any(|k| segment_meets_triangle(&u[k], &u[(k + 1) % 3], t))
+}
+
+/// Whether the closed segment ab meets the closed triangle t (not degenerate), exactly.
+fn segment_meets_triangle(a: &Vector3, b: &Vector3, t: &[Vector3; 3]) -> bool {
+    let (sa, sb) = (o3(&t[0], &t[1], &t[2], a), o3(&t[0], &t[1], &t[2], b));
+    if sa == sb && sa != 0 {
+        return false;
+    }
+    if sa == 0 && sb == 0 {
+        // In the triangle's plane: project along the normal's largest component (a
+        // coordinate dropped, so exactly) and test in 2D.
+        let n = (t[1] - t[0]).cross(&(t[2] - t[0]));
+        let drop = (0..3).max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs())).unwrap_or(2);
+        let p = |v: &Vector3| [v[(drop + 1) % 3], v[(drop + 2) % 3]];
+        let (a, b, t) = (p(a), p(b), t.map(|v| p(&v)));
+        let inside = |x| !mixed([o2(t[0], t[1], x), o2(t[1], t[2], x), o2(t[2], t[0], x)]);
+        return inside(a) || inside(b) || (0..3).any(|k| segments_meet_2d(a, b, t[k], t[(k + 1) % 3]));
+    }
+    // The segment reaches the plane: the line ab meets the closed triangle.
+    !mixed([o3(a, b, &t[0], &t[1]), o3(a, b, &t[1], &t[2]), o3(a, b, &t[2], &t[0])])
+}
+
+/// Whether closed segments ab and cd in a plane meet, exactly.
+fn segments_meet_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let (d1, d2, d3, d4) = (o2(a, b, c), o2(a, b, d), o2(c, d, a), o2(c, d, b));
+    if d1 * d2 < 0 && d3 * d4 < 0 {
+        return true;
+    }
+    let within = |p: [f64; 2], q: [f64; 2], x: [f64; 2]| (0..2).all(|k| p[k].min(q[k]) <= x[k] && x[k] <= p[k].max(q[k]));
+    (d1 == 0 && within(a, b, c)) || (d2 == 0 && within(a, b, d)) || (d3 == 0 && within(c, d, a)) || (d4 == 0 && within(c, d, b))
 }
 
 /// An orthonormal basis (u, v) of the plane with unit normal n, u × v = n, and the
@@ -440,5 +580,22 @@ mod tests {
         assert!(e.contains("planar"), "{e}");
         let e = planar_polygon(&[Vector3::zeros(), Vector3::new(2.0, 2.0, 0.0), Vector3::new(2.0, 0.0, 0.0), Vector3::y()], 0.5).unwrap_err();
         assert!(e.contains("cross"), "{e}");
+    }
+
+    #[test]
+    fn triangle_pairs_meet_exactly() {
+        let v = |x: f64, y: f64, z: f64| Vector3::new(x, y, z);
+        let flat = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)];
+        // Piercing, touching at a point of an edge, just missing, coplanar overlap, coplanar apart.
+        assert!(triangles_meet(&flat, &[v(0.2, 0.2, -1.0), v(0.2, 0.2, 1.0), v(0.3, 0.3, 1.0)]));
+        assert!(triangles_meet(&flat, &[v(0.5, 0.5, 0.0), v(0.5, 0.5, 1.0), v(1.0, 1.0, 1.0)]));
+        assert!(!triangles_meet(&flat, &[v(0.5, 0.5 + 1e-15, 0.0), v(0.6, 0.6, 1.0), v(1.0, 1.0, 1.0)]));
+        assert!(triangles_meet(&flat, &[v(0.1, 0.1, 0.0), v(2.0, 0.1, 0.0), v(0.1, 2.0, 0.0)]));
+        assert!(!triangles_meet(&flat, &[v(1.0, 1.0, 0.0), v(2.0, 1.0, 0.0), v(1.0, 2.0, 0.0)]));
+        // A square crack is open and embedded; a tetrahedron is closed.
+        let sq = TriangleSurface::new(vec![v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 1.0, 0.0), v(0.0, 1.0, 0.0)], vec![[0, 1, 2], [0, 2, 3]]).unwrap();
+        assert!(sq.check_crack().is_ok());
+        let tet = TriangleSurface::new(vec![v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(0.0, 0.0, 1.0)], vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]).unwrap();
+        assert!(tet.check_crack().unwrap_err().contains("closed surface"));
     }
 }

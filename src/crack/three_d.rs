@@ -100,10 +100,10 @@ impl crate::simulation::Dimension for D3 {
     fn finish_crack_nodes(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         finish_crack_nodes(sim)
     }
-    fn contact_momenta(sim: &mut Simulation<D3>) {
+    fn contact_momenta(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         sim.apply_contact_to_momenta()
     }
-    fn contact_updated_momenta(sim: &mut Simulation<D3>) {
+    fn contact_updated_momenta(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         sim.apply_contact_to_updated_momenta()
     }
     fn normal_gap(_: &Simulation<D3>, _: usize, _: usize) -> Option<f64> {
@@ -456,4 +456,13 @@ fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         }
     }
     Ok(())
+}
+
+/// The 3D crack stage of Task 1 alone, for `benches/step.rs`.
+#[doc(hidden)]
+impl Simulation<D3> {
+    /// The segment–surface field assignment of Task 1 (cracks only).
+    pub fn bench_crack_fields(&mut self) -> Result<(), CheckError> {
+        assign_velocity_fields(self)
+    }
 }
