@@ -226,7 +226,7 @@ fn bad_crack_numbers() {
     expect_invalid(&disc("[0.5, 0.4, 0.5]", "[0.0, 1.0, 0.0]", "0.0"), None, "cracks[0].surface.disc.radius", &[]);
     expect_invalid(&disc("[0.5, 0.4, 0.5]", "[0.0, 1.0, 0.0]", "-0.2"), None, "cracks[0].surface.disc.radius", &[]);
     expect_invalid(&disc("[0.5, 0.4, 0.5]", "[0.0, 0.0, 0.0]", "0.2"), None, "cracks[0].surface.disc.normal", &["zero"]);
-    expect_invalid(&disc("[0.5, nan, 0.5]", "[0.0, 1.0, 0.0]", "0.2"), None, "cracks[0].surface.disc.center", &[]);
+    expect_invalid(&disc("[0.5, nan, 0.5]", "[0.0, 1.0, 0.0]", "0.2"), None, "cracks[0].surface.disc.center[1]", &["finite"]);
     let t = with_crack("surface = { ellipse = { center = [0.5, 0.4, 0.5], normal = [0.0, 0.0, 0.0], axis = [1.0, 0.0, 0.0], a = 0.2, b = 0.1 } }");
     expect_invalid(&t, None, "cracks[0].surface.ellipse.normal", &["zero"]);
     let t = with_crack("surface = { ellipse = { center = [0.5, 0.4, 0.5], normal = [0.0, 1.0, 0.0], axis = [1.0, 0.0, 0.0], a = 0.2, b = 0.0 } }");
