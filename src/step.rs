@@ -8,7 +8,8 @@
 //!
 //! Speed (issue 6), without changing a bit:
 //! * the sums are computed with [`FastSum`], which certifies correct rounding, and redone
-//!   with [`ExactSums`] in the rare case it cannot (see `fast_or_exact` and `exact.rs`);
+//!   with [`ExactSum`] in the rare case it cannot — only the lanes it cannot certify
+//!   (see `fast_or_exact`, and `Rerun` in `exact.rs`);
 //! * per-node and per-particle work runs in parallel with rayon: each node's or
 //!   particle's sums are independent, results are collected in index order into buffers
 //!   kept across steps ([`Scratch`]), and stored serially;
@@ -870,7 +871,8 @@ impl<S: Dimension> Simulation<S> {
     }
 }
 
-/// The fast sums if they certify their results, else the exact ones (which always do).
+/// The fast sums if they certify their results, else the gather again with [`Exact`]
+/// accumulators (`exact::Rerun`: exact sums for the lanes the fast sums cannot certify).
 /// Both give the correctly rounded sums, so the bits do not depend on which was used.
 #[inline(always)]
 fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
