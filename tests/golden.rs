@@ -51,6 +51,7 @@ golden_case!(
     impact_energy,
     colliding_disks,
     crack_patch,
+    crack_patch_3d,
     cracked_disks,
     crack_friction,
     fea_patch,
