@@ -28,6 +28,9 @@ pub enum SceneError {
     Parse { path: String, message: String },
     #[error("scene field `{field}`: {message}")]
     Invalid { field: String, message: String },
+    /// A bad `--set PATH=VALUE` ([`crate::scene_override`]).
+    #[error("`--set {arg}`: {message}")]
+    Override { arg: String, message: String },
 }
 
 fn invalid(field: impl Into<String>, message: impl Into<String>) -> SceneError {
@@ -895,6 +898,7 @@ impl Scene {
         let mut sim = Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options);
         sim.growth = self.growth(&sim);
         self.check_cracks_against_particles(&sim)?;
+        crate::fingerprint::on_build(&sim, || toml::to_string(self).ok());
         Ok(sim)
     }
 

@@ -604,6 +604,12 @@ impl Scene3 {
     /// scales with the material, not the grid), resolve loads and boundary conditions,
     /// and assemble the simulation.
     pub fn build(&self) -> Result<Simulation<D3>, SceneError> {
+        let sim = self.build_simulation()?;
+        crate::fingerprint::on_build(&sim, || toml::to_string(self).ok());
+        Ok(sim)
+    }
+
+    fn build_simulation(&self) -> Result<Simulation<D3>, SceneError> {
         let grid = self.grid();
         let mats = self.materials();
         let n = self.solver.particles_per_cell;
