@@ -28,6 +28,8 @@ pub const FILES: &[(&str, &str)] = &[
     ("crack_friction.toml", include_str!("../../verification/crack_friction.toml")),
     ("crack_patch_full.toml", include_str!("../../verification/crack_patch_full.toml")),
     ("crack_patch_half.toml", include_str!("../../verification/crack_patch_half.toml")),
+    ("crack_patch_3d_full.toml", include_str!("../../verification/crack_patch_3d_full.toml")),
+    ("crack_patch_3d_half.toml", include_str!("../../verification/crack_patch_3d_half.toml")),
     ("cracked_disks.toml", include_str!("../../verification/cracked_disks.toml")),
     ("dcb_growth.toml", include_str!("../../verification/dcb_growth.toml")),
     ("dcb_nairn2003.toml", include_str!("../../verification/dcb_nairn2003.toml")),
