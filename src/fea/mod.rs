@@ -40,12 +40,15 @@
 pub mod compare;
 pub mod crack;
 pub mod element;
+pub mod hex8;
 pub mod jintegral;
 pub mod mesh;
+pub mod mesh3;
 pub mod output;
 pub mod run;
 pub mod scene;
 pub mod solve;
+pub mod solve3;
 
 pub use crack::{CrackTip, MeshedCrack};
 pub use jintegral::{j_integral, JResult};

@@ -598,18 +598,8 @@ impl SceneFea {
         let t0 = Instant::now();
         let system = solve::assemble(&model, &self.bcs)?;
         let equations = system.n_equations();
-        let factor = system.factorize().map_err(|e| match e {
-            FeaError::NotPositiveDefinite(m) => FeaError::NotPositiveDefinite(format!(
-                "{m}; check that the scene's [[boundary]] conditions (vx = 0 / vy = 0) fix every piece against \
-                 translation in x and y and rotation"
-            )),
-            other => other,
-        })?;
-        let u_free = factor.solve(&system.rhs);
-        if u_free.iter().any(|v| !v.is_finite()) {
-            return Err(FeaError::NotPositiveDefinite("the solution is not finite".into()));
-        }
-        let mut displacement = system.full_displacements(&u_free);
+        let dofs = system.factorize_and_solve()?;
+        let mut displacement: Vec<Vector> = dofs.chunks_exact(2).map(|u| Vector::new(u[0], u[1])).collect();
         let nodes = &self.grid_mesh.mesh.nodes;
         for piece in &self.free_pieces {
             // Remove the least-squares rigid motion ū + ω e_z × (x − x̄) (equal node weights):
