@@ -45,8 +45,11 @@ pub mod jintegral;
 pub mod mesh;
 pub mod mesh3;
 pub mod output;
+pub mod output3;
 pub mod run;
+pub mod run3;
 pub mod scene;
+pub mod scene3;
 pub mod solve;
 pub mod solve3;
 

@@ -72,6 +72,17 @@ pub fn probe_line(mesh: &Mesh, sol: &Solution, from: Vector, to: Vector, n: usiz
         .collect()
 }
 
+/// The lines of a legacy ASCII VTK unstructured grid up to `POINTS n double` (the title
+/// is one line of at most 255 characters; empty: "cramp FEA"). Shared by the Q4 and hex8 writers.
+pub(crate) fn vtk_header<W: Write>(out: &mut W, title: &str, n_points: usize) -> io::Result<()> {
+    let title: String = title.chars().filter(|c| *c != '\n' && *c != '\r').take(255).collect();
+    writeln!(out, "# vtk DataFile Version 3.0")?;
+    writeln!(out, "{}", if title.is_empty() { "cramp FEA" } else { &title })?;
+    writeln!(out, "ASCII")?;
+    writeln!(out, "DATASET UNSTRUCTURED_GRID")?;
+    writeln!(out, "POINTS {n_points} double")
+}
+
 fn tensor_row(s: &Sym) -> String {
     format!("{:e} {:e} 0 {:e} {:e} 0 0 0 {:e}", s.xx, s.xy, s.xy, s.yy, s.zz)
 }
@@ -89,13 +100,7 @@ pub fn write_vtk<W: Write>(out: &mut W, mesh: &Mesh, sol: &Solution, title: &str
     if sol.displacement.len() != mesh.n_nodes() || sol.gauss_stress.len() != mesh.elements.len() {
         return Err(io::Error::new(io::ErrorKind::InvalidInput, "the solution does not belong to this mesh"));
     }
-    // The title is one line of at most 255 characters.
-    let title: String = title.chars().filter(|c| *c != '\n' && *c != '\r').take(255).collect();
-    writeln!(out, "# vtk DataFile Version 3.0")?;
-    writeln!(out, "{}", if title.is_empty() { "cramp FEA" } else { &title })?;
-    writeln!(out, "ASCII")?;
-    writeln!(out, "DATASET UNSTRUCTURED_GRID")?;
-    writeln!(out, "POINTS {} double", mesh.n_nodes())?;
+    vtk_header(out, title, mesh.n_nodes())?;
     for p in &mesh.nodes {
         writeln!(out, "{:e} {:e} 0", p.x, p.y)?;
     }

@@ -235,7 +235,7 @@ pub fn run_fea(scene: &Scene, out_dir: Option<&Path>) -> anyhow::Result<FeaRepor
     Ok(FeaReport { mapping, analysis, summary, out_dir: out_dir.map(Path::to_path_buf) })
 }
 
-fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+pub(super) fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     let mut f = std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
     f.write_all(bytes).with_context(|| format!("cannot write {}", path.display()))
 }

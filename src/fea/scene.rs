@@ -263,19 +263,15 @@ fn meshed_polyline(grid: &Grid, c: usize, pts: &[Vector]) -> Result<Vec<Vector>>
 /// elements the rigid modes are the whole null space of K, so this is exactly the
 /// condition for K_ff to be positive definite (Cook et al. 2002, rigid-body modes).
 fn check_rigid_modes(fixed: &[(usize, usize)], x: &[Vector], centre: Vector, size: f64, body: usize) -> Result<()> {
-    let mut gram = nalgebra::Matrix3::<f64>::zeros();
-    for &(a, c) in fixed {
+    let rows = fixed.iter().map(|&(a, c)| {
         let d = (x[a] - centre) / size;
-        let row = if c == 0 { nalgebra::Vector3::new(1.0, 0.0, -d.y) } else { nalgebra::Vector3::new(0.0, 1.0, d.x) };
-        gram += row * row.transpose();
-    }
-    let eig = gram.symmetric_eigen();
-    let (k, min) =
-        eig.eigenvalues.iter().enumerate().fold((0, f64::INFINITY), |m, (k, &v)| if v < m.1 { (k, v) } else { m });
-    if min > 1e-9 * eig.eigenvalues.iter().fold(0.0, |m: f64, &v| m.max(v)) {
-        return Ok(());
-    }
-    let v = eig.eigenvectors.column(k);
+        if c == 0 {
+            [1.0, 0.0, -d.y]
+        } else {
+            [0.0, 1.0, d.x]
+        }
+    });
+    let Some(v) = free_rigid_mode(rows) else { return Ok(()) };
     let (t, omega) = (Vector::new(v[0], v[1]), v[2] / size);
     let motion = if omega.abs() * size < 1e-6 * t.norm() {
         if t.y.abs() < 1e-6 * t.norm() {
@@ -302,8 +298,59 @@ fn check_rigid_modes(fixed: &[(usize, usize)], x: &[Vector], centre: Vector, siz
     ))
 }
 
+/// The body owning every cell (`usize::MAX`: no particle), from the (cell, body) of every
+/// particle: the body with most particles in the cell, ties to the body listed first. Also
+/// counts the cells holding fewer than `ppc` particles and those holding several bodies.
+/// Shared by the Q4 and hex8 scene mappings.
+pub(super) fn cell_owners(
+    n_cells: usize,
+    n_bodies: usize,
+    ppc: usize,
+    particle_cells: impl Iterator<Item = (usize, usize)>,
+) -> (Vec<usize>, usize, usize) {
+    let mut counts: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for (cell, body) in particle_cells {
+        counts.entry(cell).or_insert_with(|| vec![0; n_bodies])[body] += 1;
+    }
+    let mut cell_body = vec![usize::MAX; n_cells];
+    let (mut partial_cells, mut mixed_cells) = (0, 0);
+    for (&cell, c) in &counts {
+        let total: usize = c.iter().sum();
+        // max_by_key keeps the last maximum; iterate in reverse so ties go to the first body.
+        let body = (0..n_bodies).rev().max_by_key(|&b| c[b]).unwrap_or(0);
+        cell_body[cell] = body;
+        if total < ppc {
+            partial_cells += 1;
+        }
+        if c.iter().filter(|&&v| v > 0).count() > 1 {
+            mixed_cells += 1;
+        }
+    }
+    (cell_body, partial_cells, mixed_cells)
+}
+
+/// The eigenvector of the smallest eigenvalue of the Gram matrix Σ rowᵀ row of the rigid
+/// modes restricted to the prescribed DOFs (one row per prescribed DOF), if that
+/// eigenvalue is zero relative to the largest (1e-9): a rigid motion the supports leave
+/// free. For a connected mesh of fully integrated elements the rigid modes are the whole
+/// null space of K, so `None` is exactly the condition for K_ff to be positive definite.
+pub(super) fn free_rigid_mode<const M: usize>(rows: impl Iterator<Item = [f64; M]>) -> Option<nalgebra::DVector<f64>> {
+    let mut gram = nalgebra::DMatrix::<f64>::zeros(M, M);
+    for row in rows {
+        let row = nalgebra::DVector::from_column_slice(&row);
+        gram += &row * row.transpose();
+    }
+    let eig = gram.symmetric_eigen();
+    let (k, min) =
+        eig.eigenvalues.iter().enumerate().fold((0, f64::INFINITY), |m, (k, &v)| if v < m.1 { (k, v) } else { m });
+    if min > 1e-9 * eig.eigenvalues.iter().fold(0.0, |m: f64, &v| m.max(v)) {
+        return None;
+    }
+    Some(eig.eigenvectors.column(k).into_owned())
+}
+
 /// Union–find root with path halving.
-fn root(parent: &mut [usize], mut a: usize) -> usize {
+pub(super) fn root(parent: &mut [usize], mut a: usize) -> usize {
     while parent[a] != a {
         parent[a] = parent[parent[a]];
         a = parent[a];
@@ -336,30 +383,18 @@ impl SceneFea {
         let n_bodies = scene.bodies.len();
 
         // Elements: cells holding particles; body by majority.
-        let mut counts: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
         let cell_of = |x: Vector| -> usize {
             let i = (((x.x - grid.origin.x) / grid.h.x).floor() as usize).min(grid.nx - 1);
             let j = (((x.y - grid.origin.y) / grid.h.y).floor() as usize).min(grid.ny - 1);
             grid.cell_index(i, j)
         };
-        for k in 0..p.len() {
-            counts.entry(cell_of(p.x[k])).or_insert_with(|| vec![0; n_bodies])[p.body[k] as usize] += 1;
-        }
         let ppc = scene.solver.particles_per_cell * scene.solver.particles_per_cell;
-        let mut cell_body = vec![usize::MAX; grid.nx * grid.ny];
-        let (mut partial_cells, mut mixed_cells) = (0, 0);
-        for (&cell, c) in &counts {
-            let total: usize = c.iter().sum();
-            // max_by_key keeps the last maximum; iterate in reverse so ties go to the first body.
-            let body = (0..n_bodies).rev().max_by_key(|&b| c[b]).unwrap_or(0);
-            cell_body[cell] = body;
-            if total < ppc {
-                partial_cells += 1;
-            }
-            if c.iter().filter(|&&v| v > 0).count() > 1 {
-                mixed_cells += 1;
-            }
-        }
+        let (cell_body, partial_cells, mixed_cells) = cell_owners(
+            grid.nx * grid.ny,
+            n_bodies,
+            ppc,
+            (0..p.len()).map(|k| (cell_of(p.x[k]), p.body[k] as usize)),
+        );
         let mut grid_mesh = GridMesh::from_grid(grid, |i, j, _| cell_body[grid.cell_index(i, j)] != usize::MAX)?;
         let element_body: Vec<usize> =
             grid_mesh.element_cell.iter().map(|&[i, j]| cell_body[grid.cell_index(i, j)]).collect();
