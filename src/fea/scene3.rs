@@ -120,7 +120,7 @@ fn free_motion(fixed: &[(usize, usize)], x: &[Vector3], centre: Vector3, size: f
         format!("translation in {}", axis_name(&t))
     } else {
         // Velocity t + ω × (x − centre) is along ω on the axis x = centre + ω × t / |ω|².
-        let p = centre + omega.cross(&t) / omega.norm_squared();
+        let p = (centre + omega.cross(&t) / omega.norm_squared()).map(|v| if v.abs() < 1e-9 * size { 0.0 } else { v });
         format!("rotation about the axis along {} through ({:.6}, {:.6}, {:.6})", axis_name(&omega), p.x, p.y, p.z)
     })
 }
