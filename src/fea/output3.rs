@@ -2,55 +2,26 @@
 
 use super::hex8;
 use super::mesh3::Mesh3;
-use super::output::vtk_header;
+use super::output::{sample_line, vtk_header};
 use super::solve::Averaged;
 use super::solve3::Solution3;
 use crate::dim::{Sym3, Vector3};
 use std::io::{self, Write};
 
-/// One sample of [`probe_line_3d`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ProbeSample3 {
-    pub position: Vector3,
-    /// Element that contains the point (the first found in mesh order on a shared face).
-    pub element: Option<usize>,
-    /// Stress interpolated trilinearly from the nodal-averaged stresses of the containing
-    /// element; `None` outside the mesh.
-    pub stress: Option<Sym3>,
-}
+/// One sample of [`probe_line_3d`] (fields as in 2D; trilinear interpolation).
+pub type ProbeSample3 = super::output::ProbeSample<Vector3, Sym3>;
 
 /// Sample the stress at `n` equally spaced points from `from` to `to` (both included), as
 /// [`super::output::probe_line`] does in 2D (bounding box, then the inverse map).
 pub fn probe_line_3d(mesh: &Mesh3, sol: &Solution3, from: Vector3, to: Vector3, n: usize) -> Vec<ProbeSample3> {
-    let boxes: Vec<(Vector3, Vector3)> = (0..mesh.elements.len())
-        .map(|e| {
-            let x = mesh.element_coords(e);
-            let lo = x.iter().fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(p));
-            let hi = x.iter().fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(p));
-            (lo, hi)
-        })
-        .collect();
-    (0..n)
-        .map(|k| {
-            let s = if n > 1 { k as f64 / (n - 1) as f64 } else { 0.0 };
-            let p = from + (to - from) * s;
-            let mut sample = ProbeSample3 { position: p, element: None, stress: None };
-            for (e, (lo, hi)) in boxes.iter().enumerate() {
-                let pad = 1e-12 * (hi - lo).norm();
-                if (0..3).any(|c| p[c] < lo[c] - pad || p[c] > hi[c] + pad) {
-                    continue;
-                }
-                if let Some(xi) = hex8::map_to_natural(&mesh.element_coords(e), p, 1e-10) {
-                    let nf = hex8::shape(xi);
-                    let conn = mesh.elements[e];
-                    let st = (0..8).fold(Sym3::ZERO, |acc, a| acc.add(&sol.nodal_stress[conn[a]].scale(nf[a])));
-                    sample.element = Some(e);
-                    sample.stress = Some(st);
-                    break;
-                }
-            }
-            sample
-        })
+    let samples = sample_line(mesh.elements.len(), |e| mesh.element_coords(e), from, to, n, |e, x, p| {
+        let nf = hex8::shape(hex8::map_to_natural(x, p, 1e-10)?);
+        let conn = mesh.elements[e];
+        Some((0..8).fold(Sym3::ZERO, |acc, a| acc.add(&sol.nodal_stress[conn[a]].scale(nf[a]))))
+    });
+    samples
+        .into_iter()
+        .map(|(position, hit)| ProbeSample3 { position, element: hit.map(|h| h.0), stress: hit.map(|h| h.1) })
         .collect()
 }
 

@@ -13,7 +13,7 @@
 //!   with the peak resident memory of the process.
 
 use super::output3::{probe_line_3d, write_vtk_3d};
-use super::run::{write_file, ProbeSummary};
+use super::run::{write_file, write_probe, ProbeSummary};
 use super::scene3::{FeaAnalysis3, SceneFea3};
 use super::hex8::{self, GAUSS};
 use crate::dim::Vector3;
@@ -84,27 +84,11 @@ pub fn run_fea_3d(scene: &Scene3, out_dir: Option<&Path>) -> anyhow::Result<FeaR
     for spec in &scene.probes {
         let (from, to) = (Vector3::from(spec.from), Vector3::from(spec.to));
         let samples = probe_line_3d(mesh, sol, from, to, spec.points);
-        let file = format!("probe_{}.csv", spec.name);
-        if let Some(dir) = out_dir {
-            let mut text = String::from("s,x,y,z,sxx,syy,szz,sxy,sxz,syz\n");
-            for s in &samples {
-                let p = s.position;
-                let _ = write!(text, "{:e},{:e},{:e},{:e}", (p - from).norm(), p.x, p.y, p.z);
-                match s.stress {
-                    Some(t) => {
-                        let _ = writeln!(text, ",{:e},{:e},{:e},{:e},{:e},{:e}", t.xx, t.yy, t.zz, t.xy, t.xz, t.yz);
-                    }
-                    None => text.push_str(",,,,,,\n"),
-                }
-            }
-            write_file(&dir.join(&file), text.as_bytes())?;
-        }
-        probes.push(ProbeSummary {
-            name: spec.name.clone(),
-            file,
-            points: samples.len(),
-            outside_mesh: samples.iter().filter(|s| s.stress.is_none()).count(),
+        let rows = samples.iter().map(|s| {
+            let p = s.position;
+            ([(p - from).norm(), p.x, p.y, p.z], s.stress.map(|t| [t.xx, t.yy, t.zz, t.xy, t.xz, t.yz]))
         });
+        probes.push(write_probe(out_dir, &spec.name, "s,x,y,z,sxx,syy,szz,sxy,sxz,syz", rows)?);
     }
     let summary = FeaSummary3 {
         title: scene.title.clone(),

@@ -329,6 +329,33 @@ pub(super) fn cell_owners(
     (cell_body, partial_cells, mixed_cells)
 }
 
+/// Notes on what the static FEA ignores: initial velocities (`moving[k]` for body k) and
+/// load ramps (`ramps[k]` of load k). Shared by the Q4 and hex8 mappings.
+pub(super) fn motion_notes(notes: &mut Vec<String>, moving: impl Iterator<Item = bool>, ramps: impl Iterator<Item = f64>) {
+    for (k, _) in moving.enumerate().filter(|(_, m)| *m) {
+        notes.push(format!("bodies[{k}]: the initial velocity is ignored by the static FEA"));
+    }
+    for (k, ramp) in ramps.enumerate().filter(|(_, r)| *r > 0.0) {
+        notes.push(format!("loads[{k}].ramp = {ramp}: the full load is applied (static)"));
+    }
+}
+
+/// Notes on cells meshed in full although partly filled, and on cells shared by bodies
+/// ([`cell_owners`]).
+pub(super) fn cell_notes(notes: &mut Vec<String>, partial_cells: usize, ppc: usize, mixed_cells: usize) {
+    if partial_cells > 0 {
+        notes.push(format!(
+            "{partial_cells} cell(s) hold fewer than {ppc} particles and are meshed in full: the FEA body is the union of \
+             the cells that hold particles"
+        ));
+    }
+    if mixed_cells > 0 {
+        notes.push(format!(
+            "{mixed_cells} cell(s) hold particles of several bodies; each element takes the body owning most of them"
+        ));
+    }
+}
+
 /// The eigenvector of the smallest eigenvalue of the Gram matrix Σ rowᵀ row of the rigid
 /// modes restricted to the prescribed DOFs (one row per prescribed DOF), if that
 /// eigenvalue is zero relative to the largest (1e-9): a rigid motion the supports leave
@@ -575,16 +602,11 @@ impl SceneFea {
         }
 
         // Notes on the rest.
-        for (k, b) in scene.bodies.iter().enumerate() {
-            if b.velocity != [0.0, 0.0] || b.velocity_sine.is_some() {
-                notes.push(format!("bodies[{k}]: the initial velocity is ignored by the static FEA"));
-            }
-        }
-        for (k, l) in scene.loads.iter().enumerate() {
-            if l.ramp > 0.0 {
-                notes.push(format!("loads[{k}].ramp = {}: the full load is applied (static)", l.ramp));
-            }
-        }
+        motion_notes(
+            &mut notes,
+            scene.bodies.iter().map(|b| b.velocity != [0.0, 0.0] || b.velocity_sine.is_some()),
+            scene.loads.iter().map(|l| l.ramp),
+        );
         for (k, c) in scene.cracks.iter().enumerate() {
             if c.contact != crate::scene::ContactSpec::None {
                 notes.push(format!(
@@ -592,17 +614,7 @@ impl SceneFea {
                 ));
             }
         }
-        if partial_cells > 0 {
-            notes.push(format!(
-                "{partial_cells} cell(s) hold fewer than {ppc} particles and are meshed in full: the FEA body is the union of \
-                 the cells that hold particles"
-            ));
-        }
-        if mixed_cells > 0 {
-            notes.push(format!(
-                "{mixed_cells} cell(s) hold particles of several bodies; each element takes the body owning most of them"
-            ));
-        }
+        cell_notes(&mut notes, partial_cells, ppc, mixed_cells);
         Ok(SceneFea {
             grid_mesh,
             groups,

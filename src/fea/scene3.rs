@@ -22,7 +22,7 @@
 
 use super::hex8;
 use super::mesh3::{cell_index, GridMesh3};
-use super::scene::{cell_owners, free_rigid_mode, root};
+use super::scene::{cell_notes, cell_owners, free_rigid_mode, motion_notes, root};
 use super::solve::BoundaryConditions;
 use super::solve3::{assemble_3d, nodal_vectors, postprocess_3d, Model3, Solution3};
 use super::{FeaError, Result};
@@ -310,28 +310,12 @@ impl SceneFea3 {
             ));
         }
 
-        for (k, b) in scene.bodies.iter().enumerate() {
-            if b.velocity != [0.0; 3] || b.velocity_sine.is_some() {
-                notes.push(format!("bodies[{k}]: the initial velocity is ignored by the static FEA"));
-            }
-        }
-        for (k, l) in scene.loads.iter().enumerate() {
-            if l.ramp > 0.0 {
-                notes.push(format!("loads[{k}].ramp = {}: the full load is applied (static)", l.ramp));
-            }
-        }
-        if partial_cells > 0 {
-            notes.push(format!(
-                "{partial_cells} cell(s) hold fewer than {} particles and are meshed in full: the FEA body is the union of \
-                 the cells that hold particles",
-                n * n * n
-            ));
-        }
-        if mixed_cells > 0 {
-            notes.push(format!(
-                "{mixed_cells} cell(s) hold particles of several bodies; each element takes the body owning most of them"
-            ));
-        }
+        motion_notes(
+            &mut notes,
+            scene.bodies.iter().map(|b| b.velocity != [0.0; 3] || b.velocity_sine.is_some()),
+            scene.loads.iter().map(|l| l.ramp),
+        );
+        cell_notes(&mut notes, partial_cells, n * n * n, mixed_cells);
         Ok(SceneFea3 {
             grid_mesh,
             materials,
