@@ -69,8 +69,11 @@ pub struct GridMesh3 {
     pub cell_element: Vec<Option<usize>>,
     /// Grid node (i, j, k) of every mesh node.
     pub node_grid: Vec<[usize; 3]>,
-    /// Mesh node of every grid node (flat node index), `usize::MAX` where there is none.
+    /// Mesh node of every grid node (flat node index), `usize::MAX` where there is none;
+    /// on a cut crack the node of the − side.
     pub grid_node: Vec<usize>,
+    /// Crack-face copies (the + side of a cut crack) of every split grid node.
+    pub copies: std::collections::BTreeMap<usize, Vec<usize>>,
 }
 
 /// Flat index of cell (i, j, k).
@@ -114,7 +117,7 @@ impl GridMesh3 {
             node_grid.push(grid.node_ijk(g));
         }
         let elements = element_cell.iter().map(|&c| CELL_CORNERS.map(|o| grid_node[corner(c, o)])).collect();
-        Ok(GridMesh3 { grid, mesh: Mesh3 { nodes, elements }, element_cell, cell_element, node_grid, grid_node })
+        Ok(GridMesh3 { grid, mesh: Mesh3 { nodes, elements }, element_cell, cell_element, node_grid, grid_node, copies: Default::default() })
     }
 
     /// Element at cell (i, j, k) with signed indices; `None` outside the grid or for an empty cell.
@@ -125,11 +128,10 @@ impl GridMesh3 {
         self.cell_element[cell_index(&self.grid, c.map(|v| v as usize))]
     }
 
-    /// Mesh nodes at the flat grid node `g` (none outside the material).
+    /// Mesh nodes at the flat grid node `g`: none outside the material, two on a cut crack.
     pub fn nodes_at(&self, g: usize) -> Vec<usize> {
-        match self.grid_node[g] {
-            usize::MAX => Vec::new(),
-            a => vec![a],
-        }
+        let mut out: Vec<usize> = (self.grid_node[g] != usize::MAX).then_some(self.grid_node[g]).into_iter().collect();
+        out.extend(self.copies.get(&g).into_iter().flatten());
+        out
     }
 }

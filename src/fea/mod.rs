@@ -39,6 +39,7 @@
 
 pub mod compare;
 pub mod crack;
+pub mod crack3;
 pub mod element;
 pub mod hex8;
 pub mod jintegral;

@@ -8,13 +8,15 @@
 //! * `fea_nodes.csv` — `node,i,j,k,x,y,z,ux,uy,uz,sxx,syy,szz,sxy,sxz,syz`;
 //! * `probe_<name>.csv` per `[[probes]]` entry — `s,x,y,z,sxx,syy,szz,sxy,sxz,syz`
 //!   (empty fields outside the mesh);
+//! * `fea_front.csv` (when the scene has meshed cracks) — `crack,node,i,j,k,x,y,z,cells,J,K_I,K_II,K_III`
+//!   per front node and domain;
 //! * `fea_summary.json` — mesh and system size, notes, load resultant, supports, strain
 //!   energy, probes, and the times of assembly, factorisation + solve and stress recovery
 //!   with the peak resident memory of the process.
 
 use super::output3::{probe_line_3d, write_vtk_3d};
 use super::run::{write_file, write_probe, ProbeSummary};
-use super::scene3::{FeaAnalysis3, SceneFea3};
+use super::scene3::{FeaAnalysis3, FrontResult, SceneFea3};
 use super::hex8::{self, GAUSS};
 use crate::dim::Vector3;
 use crate::output::vtk::{write_points_3d, PointData};
@@ -45,11 +47,15 @@ pub struct FeaSummary3 {
     pub strain_energy: f64,
     pub notes: Vec<String>,
     pub probes: Vec<ProbeSummary>,
+    /// Per front node of every meshed crack: J (3D equivalent domain integral), K_I, K_II,
+    /// K_III (plane strain inside, COD mode split) for domains of 1 to 8 cells.
+    pub front: Vec<FrontResult>,
     pub wall_time_s: f64,
     pub assembly_time_s: f64,
     /// Symbolic + numeric Cholesky and the solve.
     pub solve_time_s: f64,
     pub stress_time_s: f64,
+    pub j_time_s: f64,
     /// Peak resident set of the process so far (Linux VmHWM), if known.
     pub peak_memory_bytes: Option<u64>,
 }
@@ -109,10 +115,12 @@ pub fn run_fea_3d(scene: &Scene3, out_dir: Option<&Path>) -> anyhow::Result<FeaR
         strain_energy: analysis.strain_energy,
         notes: mapping.notes.clone(),
         probes,
+        front: analysis.front.clone(),
         wall_time_s: start.elapsed().as_secs_f64(),
         assembly_time_s: analysis.assembly_seconds,
         solve_time_s: analysis.solve_seconds,
         stress_time_s: analysis.stress_seconds,
+        j_time_s: analysis.j_seconds,
         peak_memory_bytes: peak_memory_bytes(),
     };
     if let Some(dir) = out_dir {
@@ -151,6 +159,21 @@ pub fn run_fea_3d(scene: &Scene3, out_dir: Option<&Path>) -> anyhow::Result<FeaR
             );
         }
         write_file(&dir.join("fea_nodes.csv"), csv.as_bytes())?;
+        if !analysis.front.is_empty() {
+            let mut csv = String::from("crack,node,i,j,k,x,y,z,cells,J,K_I,K_II,K_III\n");
+            for f in &analysis.front {
+                let [i, j, k] = f.grid_node;
+                let [x, y, z] = f.position;
+                for d in &f.domains {
+                    let _ = writeln!(
+                        csv,
+                        "{},{},{i},{j},{k},{x:e},{y:e},{z:e},{},{:e},{:e},{:e},{:e}",
+                        f.crack, f.node, d.cells, d.j, d.k_i, d.k_ii, d.k_iii
+                    );
+                }
+            }
+            write_file(&dir.join("fea_front.csv"), csv.as_bytes())?;
+        }
         write_file(&dir.join("fea_summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
     }
     Ok(FeaReport3 { mapping, analysis, summary, out_dir: out_dir.map(Path::to_path_buf) })
@@ -178,6 +201,21 @@ impl FeaReport3 {
         }
         for n in &s.notes {
             let _ = writeln!(t, "note: {n}");
+        }
+        for f in &s.front {
+            let [x, y, z] = f.position;
+            match f.domains.last() {
+                Some(d) => {
+                    let _ = writeln!(
+                        t,
+                        "crack {} front node ({x}, {y}, {z}): J = {:.6e}, K_I = {:.6e}, K_II = {:+.3e}, K_III = {:+.3e} ({} cells)",
+                        f.crack, d.j, d.k_i, d.k_ii, d.k_iii, d.cells
+                    );
+                }
+                None => {
+                    let _ = writeln!(t, "crack {} front node ({x}, {y}, {z}): {}", f.crack, f.skipped.as_deref().unwrap_or(""));
+                }
+            }
         }
         if let Some(dir) = &self.out_dir {
             let _ = writeln!(t, "outputs in {}", dir.display());

@@ -20,6 +20,7 @@
 //! * Damping, time step, scheme, shape functions, initial velocities and load ramps are
 //!   ignored (reported as notes).
 
+use super::crack3::{j_front, FrontJ, MeshedCrack3};
 use super::hex8;
 use super::mesh3::{cell_index, GridMesh3};
 use super::scene::{cell_notes, cell_owners, free_rigid_mode, motion_notes, root};
@@ -52,6 +53,8 @@ pub struct AutoSupport3 {
 #[derive(Clone, Debug)]
 pub struct SceneFea3 {
     pub grid_mesh: GridMesh3,
+    /// Meshed cracks (split nodes, front nodes).
+    pub cracks: Vec<MeshedCrack3>,
     /// Material of every scene body; element `e` uses `materials[element_body[e]]`.
     pub materials: Vec<LinearElastic>,
     pub element_body: Vec<usize>,
@@ -84,6 +87,23 @@ pub struct FeaAnalysis3 {
     pub stress_seconds: f64,
     /// Non-zeros of the lower triangle of K_ff.
     pub matrix_nonzeros: usize,
+    /// J and K at every front node of every crack.
+    pub front: Vec<FrontResult>,
+    pub j_seconds: f64,
+}
+
+/// J and K at one front node for the domains that fit (1 to [`super::scene::MAX_J_CELLS`] cells).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct FrontResult {
+    pub crack: usize,
+    pub node: usize,
+    pub grid_node: [usize; 3],
+    pub position: [f64; 3],
+    /// e1 (into the material), if the front runs along a grid axis here.
+    pub direction: Option<[f64; 3]>,
+    pub domains: Vec<FrontJ>,
+    /// Why the larger domains (or all) were not evaluated.
+    pub skipped: Option<String>,
 }
 
 fn scene_err(field: impl Into<String>, message: impl Into<String>) -> FeaError {
@@ -128,6 +148,13 @@ fn free_motion(fixed: &[(usize, usize)], x: &[Vector3], centre: Vector3, size: f
 impl SceneFea3 {
     /// Map a 3D scene onto the FEA (see the module doc). Errors name the scene field.
     pub fn from_scene(scene: &Scene3) -> Result<SceneFea3> {
+        SceneFea3::with_cracks(scene, &[])
+    }
+
+    /// [`SceneFea3::from_scene`] with meshed planar cracks, each a triangulated surface
+    /// (vertices, triangles; the layout of the MPM's crack surfaces), cut by
+    /// [`GridMesh3::cut_planar_crack`] before supports and loads are mapped.
+    pub fn with_cracks(scene: &Scene3, cracks: &[(Vec<Vector3>, Vec<[u32; 3]>)]) -> Result<SceneFea3> {
         for (k, b) in scene.boundary.iter().enumerate() {
             for (name, val) in [("vx", b.vx), ("vy", b.vy), ("vz", b.vz)] {
                 if let Some(v) = val.filter(|v| *v != 0.0) {
@@ -154,7 +181,12 @@ impl SceneFea3 {
             n * n * n,
             (0..p.len()).map(|k| (cell_index(&grid, cell_of(&p.x[k])), p.body[k] as usize)),
         );
-        let grid_mesh = GridMesh3::from_grid(grid.clone(), |c| cell_body[cell_index(&grid, c)] != usize::MAX)?;
+        let mut grid_mesh = GridMesh3::from_grid(grid.clone(), |c| cell_body[cell_index(&grid, c)] != usize::MAX)?;
+        let meshed_cracks = cracks
+            .iter()
+            .enumerate()
+            .map(|(c, (v, t))| grid_mesh.cut_planar_crack(c, v, t))
+            .collect::<Result<Vec<_>>>()?;
         let element_body: Vec<usize> =
             grid_mesh.element_cell.iter().map(|&c| cell_body[cell_index(&grid, c)]).collect();
         let materials: Vec<LinearElastic> = scene
@@ -318,6 +350,7 @@ impl SceneFea3 {
         cell_notes(&mut notes, partial_cells, n * n * n, mixed_cells);
         Ok(SceneFea3 {
             grid_mesh,
+            cracks: meshed_cracks,
             materials,
             element_body,
             bcs,
@@ -375,7 +408,35 @@ impl SceneFea3 {
                 .sum::<f64>();
         let max_auto_reaction =
             self.auto_supports.iter().map(|s| solution.reaction[s.node][s.component].abs()).fold(0.0, f64::max);
+        let t3 = Instant::now();
+        let mut front = Vec::new();
+        for (c, crack) in self.cracks.iter().enumerate() {
+            for f in &crack.front {
+                let (mut domains, mut skipped) = (Vec::new(), None);
+                for cells in 1..=super::scene::MAX_J_CELLS {
+                    match j_front(&self.grid_mesh, &model, &solution, crack, f, cells) {
+                        Ok(r) => domains.push(r),
+                        Err(e @ FeaError::BadTip { .. }) => {
+                            skipped = Some(format!("domains of {cells} to {} cells not evaluated: {e}", super::scene::MAX_J_CELLS));
+                            break;
+                        }
+                        Err(e) => return Err(e),
+                    }
+                }
+                front.push(FrontResult {
+                    crack: c,
+                    node: f.node,
+                    grid_node: f.grid_node,
+                    position: f.position.into(),
+                    direction: f.direction.map(Into::into),
+                    domains,
+                    skipped,
+                });
+            }
+        }
         Ok(FeaAnalysis3 {
+            front,
+            j_seconds: t3.elapsed().as_secs_f64(),
             solution,
             strain_energy,
             max_auto_reaction,
