@@ -376,8 +376,58 @@ pub(super) fn free_rigid_mode<const M: usize>(rows: impl Iterator<Item = [f64; M
     Some(eig.eigenvectors.column(k).into_owned())
 }
 
+/// The force on every particle that carries one: its share of a `[[loads]]` force plus
+/// m_p b (Nairn 2003 eq. 28), as (particle, force), zero forces left out. Shared by 2D and 3D.
+pub(super) fn particle_forces<S: crate::simulation::Dimension>(sim: &crate::simulation::Simulation<S>) -> Vec<(usize, S::Vector)> {
+    let p = &sim.particles;
+    (0..p.len())
+        .filter_map(|k| {
+            let mut f = sim.body_force[p.body[k] as usize] * p.mass[k];
+            if p.load[k] != NO_LOAD {
+                f += sim.loads[p.load[k] as usize].force_per_particle;
+            }
+            (f != <S::Vector as crate::dim::VectorOps>::zeros()).then_some((k, f))
+        })
+        .collect()
+}
+
+/// The connected pieces of a mesh: elements joined through a shared side (`sides`: the
+/// local node lists of an element's edges in 2D, faces in 3D; a shared corner or, in 3D,
+/// edge is a hinge and does not join). Keyed by the first element of each piece, with
+/// the piece's nodes. Union–find in element order, so the result is deterministic.
+pub(super) fn connected_pieces<const N: usize, const K: usize>(
+    elements: &[[usize; N]],
+    sides: &[[usize; K]],
+) -> BTreeMap<usize, BTreeSet<usize>> {
+    let mut parent: Vec<usize> = (0..elements.len()).collect();
+    let mut side_owner: HashMap<[usize; K], usize> = HashMap::new();
+    for (e, conn) in elements.iter().enumerate() {
+        for side in sides {
+            let mut key = side.map(|k| conn[k]);
+            key.sort_unstable();
+            match side_owner.entry(key) {
+                Entry::Occupied(o) => {
+                    let (ra, rb) = (root(&mut parent, e), root(&mut parent, *o.get()));
+                    if ra != rb {
+                        parent[ra.max(rb)] = ra.min(rb);
+                    }
+                }
+                Entry::Vacant(v) => {
+                    v.insert(e);
+                }
+            }
+        }
+    }
+    let mut pieces: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+    for (e, conn) in elements.iter().enumerate() {
+        let r = root(&mut parent, e);
+        pieces.entry(r).or_default().extend(conn.iter().copied());
+    }
+    pieces
+}
+
 /// Union–find root with path halving.
-pub(super) fn root(parent: &mut [usize], mut a: usize) -> usize {
+fn root(parent: &mut [usize], mut a: usize) -> usize {
     while parent[a] != a {
         parent[a] = parent[parent[a]];
         a = parent[a];
@@ -491,14 +541,7 @@ impl SceneFea {
         // Loads and body forces, particle by particle.
         let mut n_loaded_particles = 0;
         let mut load_resultant = Vector::zeros();
-        for k in 0..p.len() {
-            let mut f = sim.body_force[p.body[k] as usize] * p.mass[k];
-            if p.load[k] != NO_LOAD {
-                f += sim.loads[p.load[k] as usize].force_per_particle;
-            }
-            if f == Vector::zeros() {
-                continue;
-            }
+        for (k, f) in particle_forces(&sim) {
             n_loaded_particles += 1;
             let cell = cell_of(p.x[k]);
             let (i, j) = (cell % grid.nx, cell / grid.nx);
@@ -516,30 +559,7 @@ impl SceneFea {
         // Pieces (elements joined through shared edges; a corner-only contact is a hinge):
         // supported ones must be held against every rigid motion, unsupported ones must be
         // in equilibrium and get the minimal support.
-        let n_el = mesh.elements.len();
-        let mut parent: Vec<usize> = (0..n_el).collect();
-        let mut edge_owner: HashMap<(usize, usize), usize> = HashMap::new();
-        for (e, conn) in mesh.elements.iter().enumerate() {
-            for k in 0..4 {
-                let (a, b) = (conn[k], conn[(k + 1) % 4]);
-                match edge_owner.entry((a.min(b), a.max(b))) {
-                    Entry::Occupied(o) => {
-                        let (ra, rb) = (root(&mut parent, e), root(&mut parent, *o.get()));
-                        if ra != rb {
-                            parent[ra.max(rb)] = ra.min(rb);
-                        }
-                    }
-                    Entry::Vacant(v) => {
-                        v.insert(e);
-                    }
-                }
-            }
-        }
-        let mut pieces: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
-        for (e, conn) in mesh.elements.iter().enumerate() {
-            let r = root(&mut parent, e);
-            pieces.entry(r).or_default().extend(conn.iter().copied());
-        }
+        let pieces = connected_pieces(&mesh.elements, &[[0, 1], [1, 2], [2, 3], [3, 0]]);
         let mut auto_supports = Vec::new();
         let mut free_pieces = Vec::new();
         let forces = bcs.forces().to_vec();

@@ -23,16 +23,13 @@
 use super::crack3::{j_front, FrontJ, MeshedCrack3};
 use super::hex8;
 use super::mesh3::{cell_index, GridMesh3};
-use super::scene::{cell_notes, cell_owners, free_rigid_mode, motion_notes, root};
+use super::scene::{cell_notes, cell_owners, connected_pieces, free_rigid_mode, motion_notes, particle_forces};
 use super::solve::BoundaryConditions;
 use super::solve3::{assemble_3d, nodal_vectors, postprocess_3d, Model3, Solution3};
 use super::{FeaError, Result};
 use crate::dim::{GridGeometry, Vector3};
 use crate::material::LinearElastic;
-use crate::particles::NO_LOAD;
 use crate::scene3d::Scene3;
-use std::collections::hash_map::Entry;
-use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::time::Instant;
 
 /// Relative tolerance of the equilibrium check of an unsupported piece (as in 2D).
@@ -221,14 +218,7 @@ impl SceneFea3 {
         // Loads and body forces, particle by particle.
         let mut n_loaded_particles = 0;
         let mut load_resultant = Vector3::zeros();
-        for k in 0..p.len() {
-            let mut f = sim.body_force[p.body[k] as usize] * p.mass[k];
-            if p.load[k] != NO_LOAD {
-                f += sim.loads[p.load[k] as usize].force_per_particle;
-            }
-            if f == Vector3::zeros() {
-                continue;
-            }
+        for (k, f) in particle_forces(&sim) {
             n_loaded_particles += 1;
             let c = cell_of(&p.x[k]);
             let Some(e) = grid_mesh.cell_element[cell_index(&grid, c)] else {
@@ -245,31 +235,7 @@ impl SceneFea3 {
         }
 
         // Pieces: elements joined through shared faces.
-        let n_el = mesh.elements.len();
-        let mut parent: Vec<usize> = (0..n_el).collect();
-        let mut face_owner: HashMap<[usize; 4], usize> = HashMap::new();
-        for (e, conn) in mesh.elements.iter().enumerate() {
-            for face in FACES {
-                let mut key = face.map(|k| conn[k]);
-                key.sort_unstable();
-                match face_owner.entry(key) {
-                    Entry::Occupied(o) => {
-                        let (ra, rb) = (root(&mut parent, e), root(&mut parent, *o.get()));
-                        if ra != rb {
-                            parent[ra.max(rb)] = ra.min(rb);
-                        }
-                    }
-                    Entry::Vacant(v) => {
-                        v.insert(e);
-                    }
-                }
-            }
-        }
-        let mut pieces: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
-        for (e, conn) in mesh.elements.iter().enumerate() {
-            let r = root(&mut parent, e);
-            pieces.entry(r).or_default().extend(conn.iter().copied());
-        }
+        let pieces = connected_pieces(&mesh.elements, &FACES);
         let (mut auto_supports, mut free_pieces) = (Vec::new(), Vec::new());
         let forces = bcs.forces().to_vec();
         let x = |a: usize| mesh.nodes[a];
