@@ -38,6 +38,8 @@ pub enum CheckError {
     CrackCrossing { step: u64, particle: usize, id: u32, crack: usize, before: i8, after: i8 },
     #[error("step {step}: grid node (i, j) = ({i}, {j}) at ({x}, {y}) needs more than two velocity fields (cracks {cracks:?}); CRAMP allows at most two")]
     TooManyFields { step: u64, i: usize, j: usize, x: f64, y: f64, cracks: Vec<usize> },
+    #[error("step {step}: grid node (i, j, k) = ({}, {}, {}) at {} needs more than two velocity fields (cracks {cracks:?}); CRAMP allows at most two", ijk[0], ijk[1], ijk[2], fmt_point(x, 6))]
+    TooManyFields3 { step: u64, ijk: [usize; 3], x: Vec<f64>, cracks: Vec<usize> },
     #[error("step {step}: particle {particle} (id {id}) sees no grid node that a crack does not hide (node visibility); it lies on a crack")]
     NoVisibleNode { step: u64, particle: usize, id: u32 },
     #[error("step {step}: contact at node {node} changed total momentum from ({bx:.17e}, {by:.17e}) to ({ax:.17e}, {ay:.17e})")]

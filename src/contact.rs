@@ -14,8 +14,22 @@
 //!   An impulse can only push: frictional contact acts only when the faces approach.
 
 use crate::crack::{ContactDetection, ContactLaw};
+#[cfg(test)]
 use crate::dim::Vector;
-use crate::simulation::Simulation;
+use crate::dim::{GridGeometry, VectorOps};
+use crate::simulation::{Dimension, Simulation};
+
+/// What contact needs to know of a crack, in 2D and 3D.
+pub trait CrackFaces {
+    /// The contact law of its faces.
+    fn law(&self) -> ContactLaw;
+    /// Relative nodal volume below which the faces are separated (eq. 10).
+    fn v_sep(&self) -> f64;
+    /// Relative nodal volume above which the faces are in contact.
+    fn v_contact(&self) -> f64;
+    /// How contact is detected.
+    fn detection(&self) -> ContactDetection;
+}
 
 /// Which fields of a two-field node are "above" and "below" the crack: field 1 is the
 /// particles above the crack relative to the node, field 2 below; field 0 is on the
@@ -32,7 +46,7 @@ fn above_below(present: u8) -> Option<(usize, usize)> {
 
 /// The momentum change of the above field for a contact law, or None if no contact.
 /// `dv` = v_a − v_b, `n` the normal from above to below, `mred` = m_a m_b/(m_a + m_b).
-pub fn contact_impulse(law: ContactLaw, dv: Vector, n: Vector, mred: f64, forced: bool) -> Option<Vector> {
+pub fn contact_impulse<V: VectorOps>(law: ContactLaw, dv: V, n: V, mred: f64, forced: bool) -> Option<V> {
     let dvn = dv.dot(&n);
     if !(forced || dvn > 0.0) {
         return None;
@@ -58,7 +72,7 @@ pub fn contact_impulse(law: ContactLaw, dv: Vector, n: Vector, mred: f64, forced
     }
 }
 
-impl Simulation {
+impl<S: Dimension> Simulation<S> {
     /// Contact on momenta extrapolated from the particles (Tasks 2 and 6c).
     pub(crate) fn apply_contact_to_momenta(&mut self) {
         self.contact_pass(false);
@@ -72,15 +86,14 @@ impl Simulation {
 
     fn contact_pass(&mut self, back_compute_forces: bool) {
         let dt = self.options.dt;
-        let cell = self.grid.cell_area();
-        let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
-        let nodes = &mut self.nodes;
+        let cell = self.grid.cell_measure();
+        let mut nodes = std::mem::take(&mut self.nodes);
         for &node in &nodes.active {
             let i = node as usize;
             let Some((a, b)) = above_below(nodes.present[i]) else { continue };
             let c = nodes.crack[i] as usize;
             let crack = &self.cracks[c];
-            if crack.contact == ContactLaw::None {
+            if crack.law() == ContactLaw::None {
                 continue;
             }
             let (ma, mb) = (nodes.fields[a].mass[i], nodes.fields[b].mass[i]);
@@ -88,17 +101,16 @@ impl Simulation {
             let dv = pa / ma - pb / mb;
             let mred = ma * mb / (ma + mb);
             let n = nodes.normal[i];
-            let (dv, forced) = match crack.detection {
+            let (dv, forced) = match crack.detection() {
                 ContactDetection::Volume => {
                     let v_rel = nodes.volume[i] / cell;
-                    if v_rel < crack.v_sep {
+                    if v_rel < crack.v_sep() {
                         continue;
                     }
-                    (dv, v_rel > crack.v_contact)
+                    (dv, v_rel > crack.v_contact())
                 }
                 ContactDetection::Opening => {
-                    let x = self.grid.node_pos(i);
-                    let Some(gap) = self.scratch.crack_index.get(c).and_then(|index| crack.normal_opening_near(index, x, reach)) else {
+                    let Some(gap) = S::normal_gap(self, c, i) else {
                         continue;
                     };
                     // Apart through the whole step: no contact.
@@ -109,7 +121,7 @@ impl Simulation {
                     (dv - n * (gap.max(0.0) / dt), gap <= 0.0)
                 }
             };
-            let Some(dp) = contact_impulse(crack.contact, dv, n, mred, forced) else {
+            let Some(dp) = contact_impulse(crack.law(), dv, n, mred, forced) else {
                 continue;
             };
             nodes.fields[a].mom[i] = pa + dp;
@@ -119,6 +131,7 @@ impl Simulation {
                 nodes.fields[b].ftot[i] -= dp / dt;
             }
         }
+        self.nodes = nodes;
     }
 }
 

@@ -193,6 +193,13 @@ pub struct Nodes<V = Vector> {
     pub active: Vec<u32>,
 }
 
+/// Empty nodal data (a placeholder while the arrays are moved out, e.g. by contact).
+impl<V> Default for Nodes<V> {
+    fn default() -> Self {
+        Nodes { fields: Vec::new(), present: Vec::new(), volume: Vec::new(), normal: Vec::new(), crack: Vec::new(), active: Vec::new() }
+    }
+}
+
 impl<V: VectorOps> Nodes<V> {
     pub fn new(num_nodes: usize, with_cracks: bool) -> Self {
         let nf = if with_cracks { MAX_FIELDS } else { 1 };

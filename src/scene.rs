@@ -28,6 +28,9 @@ pub enum SceneError {
     Parse { path: String, message: String },
     #[error("scene field `{field}`: {message}")]
     Invalid { field: String, message: String },
+    /// A bad `--set PATH=VALUE` ([`crate::scene_override`]).
+    #[error("`--set {arg}`: {message}")]
+    Override { arg: String, message: String },
 }
 
 fn invalid(field: impl Into<String>, message: impl Into<String>) -> SceneError {
@@ -254,6 +257,18 @@ pub enum ContactSpec {
     Friction { mu: f64 },
 }
 
+impl ContactSpec {
+    /// The contact law it names.
+    pub fn law(&self) -> ContactLaw {
+        match *self {
+            ContactSpec::None => ContactLaw::None,
+            ContactSpec::Stick => ContactLaw::Stick,
+            ContactSpec::Frictionless => ContactLaw::Friction(0.0),
+            ContactSpec::Friction { mu } => ContactLaw::Friction(mu),
+        }
+    }
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CrackSpec {
@@ -348,13 +363,13 @@ pub struct ProbeSpec {
     pub points: usize,
 }
 
-fn default_contact() -> ContactSpec {
+pub(crate) fn default_contact() -> ContactSpec {
     ContactSpec::Frictionless
 }
-fn default_vsep() -> f64 {
+pub(crate) fn default_vsep() -> f64 {
     0.9
 }
-fn default_vcontact() -> f64 {
+pub(crate) fn default_vcontact() -> f64 {
     1.1
 }
 
@@ -885,12 +900,7 @@ impl Scene {
             .cracks
             .iter()
             .map(|c| {
-                let law = match c.contact {
-                    ContactSpec::None => ContactLaw::None,
-                    ContactSpec::Stick => ContactLaw::Stick,
-                    ContactSpec::Frictionless => ContactLaw::Friction(0.0),
-                    ContactSpec::Friction { mu } => ContactLaw::Friction(mu),
-                };
+                let law = c.contact.law();
                 let vertices: Vec<Vector> = c.points.iter().map(|p| v(*p)).collect();
                 let mut crack = Crack::new(crate::crack::subdivide(&vertices, 0.5 * grid.min_h()), law, c.v_sep, c.v_contact);
                 crack.detection = c.detection;
@@ -911,6 +921,7 @@ impl Scene {
         let mut sim = Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options);
         sim.growth = self.growth(&sim);
         self.check_cracks_against_particles(&sim)?;
+        crate::fingerprint::on_build(&sim, || toml::to_string(self).ok());
         Ok(sim)
     }
 

@@ -4,8 +4,9 @@
 //! when its `grid.cell` has three components ([`Dimension`] of a scene file, decided by
 //! [`detect_dimension`]); `cramp run`, `verify` and `compare` take either.
 //!
-//! Cracks in 3D (triangulated surfaces, 001 §2.1) are the next stage (issue 15): a 3D
-//! scene with `[[cracks]]` is refused with an error that says so.
+//! Cracks in 3D are triangulated surfaces (001 §2.1; [`crate::crack::three_d`]): a
+//! polygon, disc, ellipse (each optionally clipped to the bodies' bounding box: a corner
+//! crack), a list of vertices and triangles, or an STL file ([`CrackSpec3`]).
 //!
 //! Every vector of a scene must have the scene's number of components: a 2-component
 //! vector in a 3D scene, or a 3-component one in a 2D scene, is an error naming the field
@@ -47,9 +48,9 @@ pub struct Scene3 {
     pub boundary: Vec<BoundarySpec3>,
     #[serde(default)]
     pub loads: Vec<LoadSpec3>,
-    /// Refused until 3D cracks exist (issue 15); kept so the error can say so.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cracks: Option<toml::Value>,
+    /// Explicit cracks: triangulated surfaces.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cracks: Vec<CrackSpec3>,
     /// The directory of the scene file, for relative STL paths (not a scene field).
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,
@@ -174,6 +175,50 @@ pub struct BoundarySpec3 {
     pub vz: Option<f64>,
 }
 
+/// A 3D crack (001 §2.1): a triangulated surface of massless crack particles.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CrackSpec3 {
+    pub surface: CrackSurface,
+    /// Keep only the part inside the bounding box of the bodies (a corner or edge crack
+    /// from a disc, ellipse or convex polygon). Default false.
+    #[serde(default)]
+    pub clip_to_bodies: bool,
+    /// Longest triangle edge of a meshed surface (polygon, disc, ellipse); default half the
+    /// smallest cell (Nairn 2003 §2.1 spaces crack particles at half a cell).
+    pub edge: Option<f64>,
+    /// Contact law (default frictionless), as in 2D.
+    #[serde(default = "crate::scene::default_contact")]
+    pub contact: crate::scene::ContactSpec,
+    #[serde(default = "crate::scene::default_vsep")]
+    pub v_sep: f64,
+    #[serde(default = "crate::scene::default_vcontact")]
+    pub v_contact: f64,
+    /// Only "volume" in 3D.
+    #[serde(default)]
+    pub detection: crate::crack::ContactDetection,
+    /// J and K along the front: issue 16 (refused until then).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fracture: Option<toml::Value>,
+}
+
+/// The shape of a 3D crack surface. Its normals (the "above" side) follow the right-hand
+/// rule of a polygon's points, the given `normal`, or the triangles' corner order.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum CrackSurface {
+    /// A planar polygon (a rectangle is one), points in order.
+    Polygon { points: Vec<[f64; 3]> },
+    /// A disc (penny crack).
+    Disc { center: [f64; 3], normal: [f64; 3], radius: f64 },
+    /// An ellipse with semi-axis `a` along `axis` (projected on the plane) and `b` across.
+    Ellipse { center: [f64; 3], normal: [f64; 3], axis: [f64; 3], a: f64, b: f64 },
+    /// Vertices and triangles (corner indices from 0), used as given.
+    Mesh { vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]> },
+    /// A triangulated surface from an STL file (binary or ASCII), used as given.
+    Stl { file: String },
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec3 {
@@ -182,6 +227,14 @@ pub struct LoadSpec3 {
     pub force: [f64; 3],
     #[serde(default)]
     pub ramp: f64,
+}
+
+/// A polygon's points in the order whose right-hand normal agrees with n.
+fn orient(mut poly: Vec<Vector3>, n: Vector3) -> Vec<Vector3> {
+    if crate::crack::surface::newell_normal(&poly).dot(&n) < 0.0 {
+        poly.reverse();
+    }
+    poly
 }
 
 fn v3(a: [f64; 3]) -> Vector3 {
@@ -414,9 +467,6 @@ impl Scene3 {
 
     /// Check every value for physical sense; the error names the field.
     pub fn validate(&self) -> Result<(), SceneError> {
-        if self.cracks.is_some() {
-            return Err(invalid("cracks", "cracks in 3D scenes (triangulated crack surfaces, 001 §2.1) are not built yet (issue 15); only 2D scenes take [[cracks]]"));
-        }
         let g = &self.grid;
         let mut nodes = 1.0f64;
         for c in 0..3 {
@@ -436,6 +486,7 @@ impl Scene3 {
             return Err(invalid("grid.size", format!("{nodes:.3e} nodes would need about {:.0} GiB for the nodal arrays alone; use fewer or larger cells", bytes / (1u64 << 30) as f64)));
         }
         crate::scene::validate_solver(&self.solver, &self.output)?;
+        self.validate_cracks()?;
         if self.materials.is_empty() {
             return Err(invalid("materials", "at least one material is required"));
         }
@@ -574,6 +625,12 @@ impl Scene3 {
     /// scales with the material, not the grid), resolve loads and boundary conditions,
     /// and assemble the simulation.
     pub fn build(&self) -> Result<Simulation<D3>, SceneError> {
+        let sim = self.build_simulation()?;
+        crate::fingerprint::on_build(&sim, || toml::to_string(self).ok());
+        Ok(sim)
+    }
+
+    fn build_simulation(&self) -> Result<Simulation<D3>, SceneError> {
         let grid = self.grid();
         let mats = self.materials();
         let n = self.solver.particles_per_cell;
@@ -699,7 +756,151 @@ impl Scene3 {
         };
         let body_force = self.bodies.iter().map(|b| v3(b.body_force)).collect();
         let thickness = vec![1.0; self.bodies.len()];
-        Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, Vec::new(), options))
+        let cracks = self.crack_surfaces(&grid, &meshes)?;
+        Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options))
+    }
+
+    /// Check the crack fields that need no meshing (the rest is checked by
+    /// [`Scene3::crack_surfaces`] when the scene is built).
+    fn validate_cracks(&self) -> Result<(), SceneError> {
+        for (i, c) in self.cracks.iter().enumerate() {
+            let f = |n: &str| format!("cracks[{i}].{n}");
+            if c.fracture.is_some() {
+                return Err(invalid(f("fracture"), "J and K along 3D crack fronts are not built yet (issue 16); remove the table"));
+            }
+            if c.detection != crate::crack::ContactDetection::Volume {
+                return Err(invalid(f("detection"), "3D crack contact is detected by the relative nodal volume only; remove the field or set \"volume\""));
+            }
+            if let crate::scene::ContactSpec::Friction { mu } = c.contact {
+                if !(mu >= 0.0 && mu.is_finite()) {
+                    return Err(invalid(f("contact.friction.mu"), format!("must be zero or positive, got {mu}")));
+                }
+            }
+            positive(&f("v_sep"), c.v_sep)?;
+            if !(c.v_contact >= c.v_sep && c.v_contact.is_finite()) {
+                return Err(invalid(f("v_contact"), format!("must be finite and at least v_sep = {}, got {}", c.v_sep, c.v_contact)));
+            }
+            if let Some(e) = c.edge {
+                positive(&f("edge"), e)?;
+                if e < 1e-3 * self.grid.cell.iter().fold(f64::INFINITY, |a, &b| a.min(b)) {
+                    return Err(invalid(f("edge"), format!("{e} is below a thousandth of a cell: the surface would have millions of triangles")));
+                }
+            }
+            if self.solver.crack_method != crate::crack::CrackMethod::VelocityFields {
+                return Err(invalid("solver.crack_method", "3D cracks use CRAMP's velocity fields only"));
+            }
+            match &c.surface {
+                CrackSurface::Polygon { points } => {
+                    for (k, p) in points.iter().enumerate() {
+                        finite3(&f(&format!("surface.polygon.points[{k}]")), p)?;
+                    }
+                }
+                CrackSurface::Disc { center, normal, radius } => {
+                    finite3(&f("surface.disc.center"), center)?;
+                    finite3(&f("surface.disc.normal"), normal)?;
+                    positive(&f("surface.disc.radius"), *radius)?;
+                    if v3(*normal).norm() == 0.0 {
+                        return Err(invalid(f("surface.disc.normal"), "must not be zero"));
+                    }
+                }
+                CrackSurface::Ellipse { center, normal, axis, a, b } => {
+                    finite3(&f("surface.ellipse.center"), center)?;
+                    finite3(&f("surface.ellipse.normal"), normal)?;
+                    finite3(&f("surface.ellipse.axis"), axis)?;
+                    positive(&f("surface.ellipse.a"), *a)?;
+                    positive(&f("surface.ellipse.b"), *b)?;
+                    if v3(*normal).norm() == 0.0 {
+                        return Err(invalid(f("surface.ellipse.normal"), "must not be zero"));
+                    }
+                }
+                CrackSurface::Mesh { vertices, .. } => {
+                    for (k, p) in vertices.iter().enumerate() {
+                        finite3(&f(&format!("surface.mesh.vertices[{k}]")), p)?;
+                    }
+                }
+                CrackSurface::Stl { .. } => {}
+            }
+            if c.clip_to_bodies && matches!(c.surface, CrackSurface::Mesh { .. } | CrackSurface::Stl { .. }) {
+                return Err(invalid(f("clip_to_bodies"), "clips planar shapes (polygon, disc, ellipse) only; a mesh is used as given"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Mesh every crack surface and find its front: the boundary edges with material
+    /// beyond them (the point half a cell past the edge's midpoint, in the triangle's plane,
+    /// lies in a body). Errors name the crack: a mesh that is not consistently oriented, a
+    /// crack point outside the grid, a clip that leaves nothing.
+    pub fn crack_surfaces(&self, grid: &Grid3, meshes: &[Option<crate::stl::ClosedMesh>]) -> Result<Vec<crate::crack::three_d::Crack3>, SceneError> {
+        use crate::crack::surface::{clip_to_box, ellipse_boundary, planar_polygon, TriangleSurface};
+        let hmin = crate::dim::GridGeometry::min_h(grid);
+        let (glo, ghi) = (grid.origin, crate::dim::GridGeometry::max_corner(grid));
+        let (blo, bhi) = self.bodies.iter().enumerate().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), (k, b)| {
+            let (a, c) = b.shape.bounds(meshes[k].as_ref());
+            (l.inf(&a), h.sup(&c))
+        });
+        let mut out = Vec::new();
+        for (i, c) in self.cracks.iter().enumerate() {
+            let f = |n: &str| format!("cracks[{i}].{n}");
+            let edge = c.edge.unwrap_or(0.5 * hmin);
+            let clip = |poly: Vec<Vector3>, field: &str| -> Result<Vec<Vector3>, SceneError> {
+                if !c.clip_to_bodies {
+                    return Ok(poly);
+                }
+                let clipped = clip_to_box(&poly, blo, bhi);
+                if clipped.len() < 3 {
+                    return Err(invalid(f(field), "no part of it lies inside the bodies' bounding box (clip_to_bodies)"));
+                }
+                Ok(clipped)
+            };
+            let surface = match &c.surface {
+                CrackSurface::Polygon { points } => {
+                    let poly = clip(points.iter().map(|p| v3(*p)).collect(), "surface.polygon")?;
+                    planar_polygon(&poly, edge).map_err(|e| invalid(f("surface.polygon"), e))?
+                }
+                CrackSurface::Disc { center, normal, radius } => {
+                    let n = v3(*normal);
+                    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() { Vector3::x() } else if n.y.abs() <= n.z.abs() { Vector3::y() } else { Vector3::z() };
+                    let b = ellipse_boundary(v3(*center), n, axis, *radius, *radius, edge).map_err(|e| invalid(f("surface.disc"), e))?;
+                    planar_polygon(&orient(clip(b, "surface.disc")?, n), edge).map_err(|e| invalid(f("surface.disc"), e))?
+                }
+                CrackSurface::Ellipse { center, normal, axis, a, b } => {
+                    let n = v3(*normal);
+                    let bnd = ellipse_boundary(v3(*center), n, v3(*axis), *a, *b, edge).map_err(|e| invalid(f("surface.ellipse"), e))?;
+                    planar_polygon(&orient(clip(bnd, "surface.ellipse")?, n), edge).map_err(|e| invalid(f("surface.ellipse"), e))?
+                }
+                CrackSurface::Mesh { vertices, triangles } => {
+                    TriangleSurface::new(vertices.iter().map(|p| v3(*p)).collect(), triangles.clone()).map_err(|e| invalid(f("surface.mesh"), e))?
+                }
+                CrackSurface::Stl { file } => {
+                    let path = match &self.base_dir {
+                        Some(d) if Path::new(file).is_relative() => d.join(file),
+                        _ => PathBuf::from(file),
+                    };
+                    let (v, t) = crate::stl::read_triangles(&path).map_err(|e| invalid(f("surface.stl.file"), format!("{}: {e}", path.display())))?;
+                    TriangleSurface::new(v, t).map_err(|e| invalid(f("surface.stl.file"), format!("{}: {e}", path.display())))?
+                }
+            };
+            if let Some((k, v)) = surface.vertices.iter().enumerate().find(|(_, v)| (0..3).any(|a| v[a] < glo[a] || v[a] > ghi[a])) {
+                return Err(invalid(f("surface"), format!("crack point {k} at ({}, {}, {}) lies outside the grid", v.x, v.y, v.z)));
+            }
+            // The front: boundary edges with material beyond them.
+            let inside = |x: &Vector3| self.bodies.iter().enumerate().any(|(k, b)| b.shape.contains(x, meshes[k].as_ref()));
+            let front = surface
+                .boundary_edges()
+                .into_iter()
+                .filter(|&(a, b, t)| {
+                    let (pa, pb) = (surface.vertices[a as usize], surface.vertices[b as usize]);
+                    let out = (pb - pa).cross(&surface.normal(t)).normalize();
+                    inside(&((pa + pb) * 0.5 + out * (0.5 * hmin)))
+                })
+                .map(|(a, b, _)| [a, b])
+                .collect();
+            let mut crack = crate::crack::three_d::Crack3::new(surface, c.contact.law(), c.v_sep, c.v_contact, front);
+            crack.detection = c.detection;
+            out.push(crack);
+        }
+        Ok(out)
     }
 
     /// Read every STL body's surface (None for the other solids).

@@ -15,13 +15,13 @@ use std::fmt::Debug;
 
 /// A dimension as the time step sees it: [`Space`] (vectors, tensors, grid, shape
 /// functions) and its crack machinery — line crossing, contact, crack motion and growth
-/// in 2D (polylines, [`crate::crack`]); triangulated crack surfaces in 3D are the next
-/// stage (issue 15), so a 3D scene has no cracks yet. The step calls these once per step
+/// in 2D (polylines, [`crate::crack`]), triangulated crack surfaces in 3D
+/// ([`crate::crack::three_d`]; no growth yet). The step calls these once per step
 /// and only in scenes with cracks; the per-particle and per-node loops inside them are
 /// each dimension's own.
 pub trait Dimension: Space {
     /// One crack of this dimension.
-    type Crack: Clone + Debug + Send + Sync;
+    type Crack: Clone + Debug + Send + Sync + crate::contact::CrackFaces;
     /// Crack growth state (001 §2.3).
     type Growth: Clone + Debug + Send + Sync;
     /// Task 1 with cracks: velocity field of every particle–node pair (line crossing).
@@ -32,6 +32,9 @@ pub trait Dimension: Space {
     fn contact_momenta(sim: &mut Simulation<Self>);
     /// Contact on the momenta updated in Task 4, forces back-computed.
     fn contact_updated_momenta(sim: &mut Simulation<Self>);
+    /// Normal opening of crack c's tracked surfaces at node i (contact detection by
+    /// opening), None without a crack segment near it.
+    fn normal_gap(sim: &Simulation<Self>, c: usize, i: usize) -> Option<f64>;
     /// Task 7: move the cracks in the centre-of-mass velocity field.
     fn task7_move_cracks(sim: &mut Simulation<Self>);
     /// Crack propagation at the end of a step (only when the scene lets cracks grow).

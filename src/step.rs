@@ -986,6 +986,8 @@ pub struct Scratch<S: Space> {
     /// Task 1 with cracks (2D): each crack's segment index, the crack each split pair
     /// crossed, and per particle whether any of its pairs is split.
     pub crack_index: Vec<crate::crack::geometry::SegmentIndex>,
+    /// Task 1 with cracks (3D): each crack's triangle index.
+    pub crack_index3: Vec<crate::crack::crossing3::TriangleIndex>,
     pub pair_crack: Vec<u16>,
     pub split: Vec<bool>,
 }
@@ -1012,6 +1014,7 @@ impl<S: Space> Default for Scratch<S> {
             slots: Vec::new(),
             forced: Vec::new(),
             crack_index: Vec::new(),
+            crack_index3: Vec::new(),
             pair_crack: Vec::new(),
             split: Vec::new(),
         }

@@ -29,26 +29,35 @@ pub struct ClosedMesh {
     pub triangles: Vec<[usize; 3]>,
 }
 
+/// Read the vertices and triangles of an STL file (binary or ASCII; `stl_io` merges
+/// vertices with equal coordinates), for closed bodies and open crack surfaces alike.
+pub fn read_triangles(path: &Path) -> Result<(Vec<Vector3>, Vec<[u32; 3]>), String> {
+    let mut bytes = std::fs::read(path).map_err(|e| format!("cannot open: {e}"))?;
+    // The size a binary file with this header's triangle count has.
+    let binary_size = bytes.get(80..84).map(|c| 84 + 50 * u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as u64);
+    let size = bytes.len() as u64;
+    if binary_size == Some(size) && bytes.starts_with(b"solid") {
+        // A binary file whose free-form header begins with "solid" (some exporters
+        // write that): blank the word so the reader does not take it for ASCII.
+        bytes[..5].fill(b' ');
+    }
+    let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).map_err(|e| {
+        let binary = binary_size.map(|b| format!("; read as binary, its triangle count needs {b} bytes")).unwrap_or_default();
+        format!("not a readable STL file ({e}): an ASCII STL starts with `solid `, a binary STL has an 80-byte header, a 4-byte triangle count and 50 bytes per triangle; this file has {size} bytes{binary}")
+    })?;
+    let vertices: Vec<Vector3> = mesh.vertices.iter().map(|v| Vector3::new(v[0] as f64, v[1] as f64, v[2] as f64)).collect();
+    let triangles: Vec<[u32; 3]> = mesh.faces.iter().map(|f| f.vertices.map(|i| i as u32)).collect();
+    Ok((vertices, triangles))
+}
+
 impl ClosedMesh {
     /// Read an STL file (binary or ASCII) and check that it is closed.
     pub fn read(path: &Path) -> Result<ClosedMesh, String> {
-        let mut bytes = std::fs::read(path).map_err(|e| format!("cannot open: {e}"))?;
-        // The size a binary file with this header's triangle count has.
-        let binary_size = bytes.get(80..84).map(|c| 84 + 50 * u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as u64);
-        let size = bytes.len() as u64;
-        if binary_size == Some(size) && bytes.starts_with(b"solid") {
-            // A binary file whose free-form header begins with "solid" (some exporters
-            // write that): blank the word so the reader does not take it for ASCII.
-            bytes[..5].fill(b' ');
-        }
-        let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).map_err(|e| {
-            let binary = binary_size.map(|b| format!("; read as binary, its triangle count needs {b} bytes")).unwrap_or_default();
-            format!("not a readable STL file ({e}): an ASCII STL starts with `solid `, a binary STL has an 80-byte header, a 4-byte triangle count and 50 bytes per triangle; this file has {size} bytes{binary}")
-        })?;
-        let vertices: Vec<Vector3> = mesh.vertices.iter().map(|v| Vector3::new(v[0] as f64, v[1] as f64, v[2] as f64)).collect();
-        let triangles: Vec<[usize; 3]> = mesh.faces.iter().map(|f| f.vertices).collect();
-        ClosedMesh::new(vertices, triangles)
+        let (vertices, triangles) = read_triangles(path)?;
+        ClosedMesh::new(vertices, triangles.into_iter().map(|t| t.map(|i| i as usize)).collect())
     }
+
+
 
     /// Check closure and orientation (see the module documentation).
     pub fn new(vertices: Vec<Vector3>, triangles: Vec<[usize; 3]>) -> Result<ClosedMesh, String> {

@@ -159,9 +159,10 @@ fn poisson_ratio_one_half_in_3d() {
 }
 
 #[test]
-fn cracks_in_a_3d_scene() {
+fn a_2d_crack_polyline_in_a_3d_scene() {
+    // A 3D crack is a surface (`surface = { polygon = ... }` and the other forms).
     let t = format!("{BASE}\n[[cracks]]\npoints = [[0.3, 0.4, 0.5], [0.6, 0.4, 0.5]]\n");
-    expect_invalid(&t, None, "cracks", &["not built yet", "issue 15"]);
+    expect_message(&t, &["points", "surface"]);
 }
 
 // ---- solids ---------------------------------------------------------------------------
@@ -354,7 +355,7 @@ fn binary_reports_bad_3d_scenes_without_panicking() {
     let cases: Vec<(&str, &str, String, Vec<&str>)> = vec![
         ("run", "two_components", edit("velocity = [0.0, 0.0, 0.0]", "velocity = [1.0, 2.0]"), vec!["bodies[0].velocity", "has 2 components"]),
         ("run", "state", edit("rho = 1.0", "rho = 1.0\nstate = \"plane_stress\""), vec!["materials[0].state"]),
-        ("run", "cracks", format!("{BASE}\n[[cracks]]\npoints = [[0.3, 0.4, 0.5], [0.6, 0.4, 0.5]]\n"), vec!["cracks", "issue 15"]),
+        ("run", "cracks", format!("{BASE}\n[[cracks]]\npoints = [[0.3, 0.4, 0.5], [0.6, 0.4, 0.5]]\n"), vec!["points", "surface"]),
         ("run", "missing_stl", stl_scene("missing.stl"), vec!["bodies[0].shape.stl.file", "missing.stl", "cannot open"]),
         ("run", "outside", with_shape("{ sphere = { center = [0.5, 0.4, 0.9], radius = 0.2 } }"), vec!["bodies[0].shape", "outside the grid"]),
         ("fea", "fea_3d_free", BASE.to_string(), vec!["scene field `boundary`", "not held against rigid motion", "translation in x"]),

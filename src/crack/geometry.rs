@@ -144,6 +144,24 @@ fn orientation_exact(a: Vector, b: Vector, c: Vector) -> Sign {
     Sign::of(e[len - 1])
 }
 
+/// Exact sign (−1, 0, +1) of Σ a_k b_k over eight products (expansion arithmetic, as
+/// [`orientation`]'s slow path): the tie-breaking determinants of the 3D crack crossing
+/// test (`crack::crossing3`). Same precondition (no overflow or underflow of products).
+pub(crate) fn sign_of_products(terms: &[(f64, f64); 8]) -> i8 {
+    let mut e = [0.0f64; 16];
+    let mut len = 0usize;
+    for &(u, v) in terms {
+        let (p, err) = two_product(u, v);
+        grow_expansion(&mut e, &mut len, err);
+        grow_expansion(&mut e, &mut len, p);
+    }
+    match Sign::of(e[len - 1]) {
+        Sign::Negative => -1,
+        Sign::Zero => 0,
+        Sign::Positive => 1,
+    }
+}
+
 /// The exact sign of the signed area of eq. 33 (Nairn 2003): `Positive` if
 /// x1 → x2 → x3 turns counter-clockwise, `Negative` if clockwise, `Zero` iff the three
 /// points are exactly collinear.

@@ -4,7 +4,10 @@
 //! surfaces, each moved in the velocity field of its own side (004 §2.1; 001 eqs. 11–12),
 //! whose separation gives the crack-opening displacements.
 
+pub mod crossing3;
 pub mod geometry;
+pub mod surface;
+pub mod three_d;
 mod visibility;
 
 use crate::check::CheckError;
@@ -144,6 +147,59 @@ impl Crack {
     }
 }
 
+impl crate::contact::CrackFaces for Crack {
+    fn law(&self) -> ContactLaw {
+        self.contact
+    }
+    fn v_sep(&self) -> f64 {
+        self.v_sep
+    }
+    fn v_contact(&self) -> f64 {
+        self.v_contact
+    }
+    fn detection(&self) -> ContactDetection {
+        self.detection
+    }
+}
+
+/// The field of a node that holds the material on one side (`above`) of crack `c`, or
+/// None if the node has none — ν(s,i) of 001 eq. 12 for a crack-surface point s on that
+/// side (2D and 3D). Field 0 holds the material on the node's own side, field 1 (2) the
+/// material above (below) the crack seen across it (Nairn 2003 §2.1). The node's own side
+/// follows from its fields (`present`) when the crack split it ({0,1}: below; {0,2}:
+/// above; {1,2}: on the crack) and from the geometry otherwise (`geometric_side`: +1
+/// above, −1 below, 0 unknown); a node whose side is unknown (ahead of a tip, or far)
+/// gives field 0. A node split by another crack (`node_crack` ≠ c) gives none: its fields
+/// say nothing about this crack.
+pub(crate) fn side_field(present: u8, node_crack: u16, c: usize, above: bool, geometric_side: impl FnOnce() -> i8) -> Option<usize> {
+    let has = |f: usize| present & (1 << f) != 0;
+    let across = if above { 1 } else { 2 };
+    if present == 0 {
+        return None;
+    }
+    if present.count_ones() >= 2 && node_crack as usize != c {
+        return None;
+    }
+    let node_above = match (has(0), has(1), has(2)) {
+        (true, true, false) => Some(false),
+        (true, false, true) => Some(true),
+        (false, true, true) => return Some(across),
+        (false, true, false) => Some(false),
+        (false, false, true) => Some(true),
+        _ => match geometric_side() {
+            1 => Some(true),
+            -1 => Some(false),
+            _ => None,
+        },
+    };
+    let f = match node_above {
+        Some(a) if a == above => 0,
+        Some(_) => across,
+        None => 0,
+    };
+    has(f).then_some(f)
+}
+
 /// Crack particles along the polyline through `vertices`: every segment is divided
 /// evenly so that neighbouring crack particles are at most `max_spacing` apart. The
 /// scene's vertices are kept exactly. Crack particles move independently (Task 7), so
@@ -210,6 +266,11 @@ impl crate::simulation::Dimension for crate::dim::D2 {
     fn contact_updated_momenta(sim: &mut Simulation) {
         sim.apply_contact_to_updated_momenta()
     }
+    fn normal_gap(sim: &Simulation, c: usize, i: usize) -> Option<f64> {
+        let reach = 2.0 * sim.grid.h.x.max(sim.grid.h.y);
+        let x = sim.grid.node_pos(i);
+        sim.scratch.crack_index.get(c).and_then(|index| sim.cracks[c].normal_opening_near(index, x, reach))
+    }
     fn task7_move_cracks(sim: &mut Simulation) {
         sim.task7_move_cracks()
     }
@@ -229,37 +290,6 @@ impl crate::simulation::Dimension for crate::dim::D2 {
             }
         }
         words
-    }
-}
-
-/// A 3D crack: triangulated crack surfaces are the next stage (001 §2.1; issue 15).
-/// Until then a 3D scene has no cracks, so no value of this type exists.
-#[derive(Clone, Debug)]
-pub enum NoCrack3 {}
-
-/// 3D: no cracks yet (issue 15 adds triangulated crack surfaces); every hook is only
-/// called in a scene with cracks, which a 3D scene cannot build.
-impl crate::simulation::Dimension for crate::dim::D3 {
-    type Crack = NoCrack3;
-    type Growth = NoCrack3;
-
-    fn task1_cracks(_: &mut Simulation<crate::dim::D3>) -> Result<(), CheckError> {
-        Ok(())
-    }
-    fn finish_crack_nodes(_: &mut Simulation<crate::dim::D3>) -> Result<(), CheckError> {
-        Ok(())
-    }
-    fn contact_momenta(_: &mut Simulation<crate::dim::D3>) {}
-    fn contact_updated_momenta(_: &mut Simulation<crate::dim::D3>) {}
-    fn task7_move_cracks(_: &mut Simulation<crate::dim::D3>) {}
-    fn grow_cracks(_: &mut Simulation<crate::dim::D3>) -> Result<(), CheckError> {
-        Ok(())
-    }
-    fn check_crack_sides(_: &mut Simulation<crate::dim::D3>) -> Result<(), CheckError> {
-        Ok(())
-    }
-    fn crack_state_bits(_: &[NoCrack3]) -> Vec<u64> {
-        Vec::new()
     }
 }
 
@@ -470,34 +500,7 @@ impl Simulation {
     /// {1,2}: on the crack) and from the geometry otherwise; a node whose side is
     /// unknown (ahead of a tip, or far) gives field 0.
     pub(crate) fn surface_field(&self, c: usize, points: &[Vector], index: &geometry::SegmentIndex, i: usize, above: bool, reach: f64) -> Option<usize> {
-        let nodes = &self.nodes;
-        let present = nodes.present[i];
-        let has = |f: usize| present & (1 << f) != 0;
-        let across = if above { 1 } else { 2 };
-        if present == 0 {
-            return None;
-        }
-        if present.count_ones() >= 2 && nodes.crack[i] as usize != c {
-            return None; // split by another crack: its fields say nothing about this one
-        }
-        let node_above = match (has(0), has(1), has(2)) {
-            (true, true, false) => Some(false),
-            (true, false, true) => Some(true),
-            (false, true, true) => return Some(across),
-            (false, true, false) => Some(false),
-            (false, false, true) => Some(true),
-            _ => match side_of(points, index, self.grid.node_pos(i), reach) {
-                1 => Some(true),
-                -1 => Some(false),
-                _ => None,
-            },
-        };
-        let f = match node_above {
-            Some(a) if a == above => 0,
-            Some(_) => across,
-            None => 0,
-        };
-        has(f).then_some(f)
+        side_field(self.nodes.present[i], self.nodes.crack[i], c, above, || side_of(points, index, self.grid.node_pos(i), reach))
     }
 
     /// Checked mode: no particle near a crack changes side. A particle's side is known

@@ -179,8 +179,12 @@ impl SceneFea3 {
             (0..p.len()).map(|k| (cell_index(&grid, cell_of(&p.x[k])), p.body[k] as usize)),
         );
         let mut grid_mesh = GridMesh3::from_grid(grid.clone(), |c| cell_body[cell_index(&grid, c)] != usize::MAX)?;
-        let meshed_cracks = cracks
+        // The scene's own [[cracks]] (their triangulated surfaces, as the MPM meshes them) first.
+        let scene_cracks: Vec<(Vec<Vector3>, Vec<[u32; 3]>)> =
+            sim.cracks.iter().map(|c| (c.surface.vertices.clone(), c.surface.triangles.clone())).collect();
+        let meshed_cracks = scene_cracks
             .iter()
+            .chain(cracks)
             .enumerate()
             .map(|(c, (v, t))| grid_mesh.cut_planar_crack(c, v, t))
             .collect::<Result<Vec<_>>>()?;
@@ -308,6 +312,9 @@ impl SceneFea3 {
             ));
         }
 
+        if !sim.cracks.is_empty() {
+            notes.push("crack contact is not modelled: the FEA crack faces are traction-free and may overlap (check the opening)".into());
+        }
         motion_notes(
             &mut notes,
             scene.bodies.iter().map(|b| b.velocity != [0.0; 3] || b.velocity_sine.is_some()),

@@ -513,12 +513,19 @@ impl CrackGrowthSummary {
 /// A ParaView collection (`.pvd`) listing snapshot files with their times, so ParaView
 /// opens a run's snapshots as one time series (2D and 3D).
 pub fn write_pvd(path: &Path, files: &[(f64, String)]) -> anyhow::Result<()> {
+    let parts: Vec<(f64, usize, String)> = files.iter().map(|(t, n)| (*t, 0, n.clone())).collect();
+    write_pvd_parts(path, &parts)
+}
+
+/// A ParaView collection of (time, part, file): several files per time are the parts of
+/// one multiblock data set (3D runs: particles part 0, crack surfaces part 1).
+pub fn write_pvd_parts(path: &Path, files: &[(f64, usize, String)]) -> anyhow::Result<()> {
     let mut f = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?);
     writeln!(f, "<?xml version=\"1.0\"?>")?;
     writeln!(f, "<VTKFile type=\"Collection\" version=\"0.1\">")?;
     writeln!(f, "  <Collection>")?;
-    for (t, name) in files {
-        writeln!(f, "    <DataSet timestep=\"{t:e}\" part=\"0\" file=\"{name}\"/>")?;
+    for (t, part, name) in files {
+        writeln!(f, "    <DataSet timestep=\"{t:e}\" part=\"{part}\" file=\"{name}\"/>")?;
     }
     writeln!(f, "  </Collection>")?;
     writeln!(f, "</VTKFile>")?;

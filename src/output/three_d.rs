@@ -3,7 +3,7 @@
 //! full symmetric tensors, and the ParaView collection `particles.pvd`.
 
 use super::vtk::{self, PointData};
-use super::{prepare_out_dir, write_atomically, write_pvd, RunOptions, RunStatus};
+use super::{prepare_out_dir, write_atomically, write_pvd_parts, RunOptions, RunStatus};
 use crate::dim::{Vector3, D3};
 use crate::scene3d::Scene3;
 use crate::simulation::{Energies, Simulation};
@@ -142,14 +142,21 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         f.row(&history[0].csv())?;
     }
     let mut next_hist = hist_dt;
-    let mut snapshots: Vec<(f64, String)> = Vec::new();
+    let mut snapshots: Vec<(f64, usize, String)> = Vec::new();
     let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
-    let archive = |s: &Simulation<D3>, snapshots: &mut Vec<(f64, String)>| -> anyhow::Result<()> {
+    let mut archived = 0usize;
+    let mut archive = |s: &Simulation<D3>, snapshots: &mut Vec<(f64, usize, String)>| -> anyhow::Result<()> {
         if let Some(dir) = &opts.out_dir {
-            let name = format!("particles_{:05}.vtk", snapshots.len());
+            let name = format!("particles_{archived:05}.vtk");
             write_atomically(&dir.join(&name), |tmp| write_snapshot_3d(s, tmp))?;
-            snapshots.push((s.time, name));
-            write_atomically(&dir.join("particles.pvd"), |tmp| write_pvd(tmp, snapshots))?;
+            snapshots.push((s.time, 0, name));
+            if s.has_cracks() {
+                let name = format!("cracks_{archived:05}.vtk");
+                write_atomically(&dir.join(&name), |tmp| write_crack_snapshot_3d(s, tmp))?;
+                snapshots.push((s.time, 1, name));
+            }
+            archived += 1;
+            write_atomically(&dir.join("particles.pvd"), |tmp| write_pvd_parts(tmp, snapshots))?;
         }
         Ok(())
     };
@@ -267,4 +274,29 @@ pub fn write_snapshot_3d(sim: &Simulation<D3>, path: &Path) -> anyhow::Result<()
         ],
     )
     .with_context(|| format!("cannot write snapshot {}", path.display()))
+}
+
+/// 3D crack snapshot in legacy VTK: for every crack, in scene order, three triangle meshes
+/// — the crack particles (moved in the centre-of-mass velocity, Task 7), the "above"
+/// surface and the "below" surface (each moved in its own side's fields, 001 eqs. 11–12).
+/// Point vector `opening`: above − below at the crack particle (the crack-opening
+/// displacement, the same on all three copies). Cell scalars `crack` (index in the scene)
+/// and `surface` (0 crack particles, 1 above, 2 below).
+pub fn write_crack_snapshot_3d(sim: &Simulation<D3>, path: &Path) -> anyhow::Result<()> {
+    let (mut pts, mut tris, mut opening, mut crack, mut surface) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (c, cr) in sim.cracks.iter().enumerate() {
+        let open: Vec<Vector3> = (0..cr.above.len()).map(|k| cr.opening(k)).collect();
+        for (k, set) in [&cr.surface.vertices, &cr.above, &cr.below].into_iter().enumerate() {
+            let base = pts.len() as u32;
+            pts.extend_from_slice(set);
+            opening.extend_from_slice(&open);
+            for t in &cr.surface.triangles {
+                tris.push(t.map(|i| i + base));
+                crack.push(c as f64);
+                surface.push(k as f64);
+            }
+        }
+    }
+    vtk::write_triangles(path, &format!("cramp cracks t={:e}", sim.time), &pts, &tris, &[("opening", &opening)], &[("crack", &crack), ("surface", &surface)])
+        .with_context(|| format!("cannot write crack snapshot {}", path.display()))
 }

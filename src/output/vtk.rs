@@ -317,6 +317,71 @@ pub fn write_polylines(
     w.flush()
 }
 
+/// Write triangle meshes (3D crack surfaces) as a legacy VTK POLYDATA file of
+/// `POLYGONS` cells, with named per-point vectors (`POINT_DATA`) and per-triangle scalars
+/// (`CELL_DATA`). `triangles` index `points`.
+///
+/// Errors (`InvalidInput`, no file created): an index out of range, a length mismatch,
+/// a non-finite number, a bad title or name.
+pub fn write_triangles(
+    path: impl AsRef<Path>,
+    title: &str,
+    points: &[Vector3],
+    triangles: &[[u32; 3]],
+    point_vectors: &[(&str, &[Vector3])],
+    cell_scalars: &[(&str, &[f64])],
+) -> io::Result<()> {
+    check_title(title)?;
+    let pts: Vec<[f64; 3]> = points.iter().map(|p| [p.x, p.y, p.z]).collect();
+    check_positions(&pts)?;
+    if let Some(k) = triangles.iter().position(|t| t.iter().any(|&i| i as usize >= points.len())) {
+        return Err(invalid(format!("triangle {k} names a point that does not exist")));
+    }
+    check_names(point_vectors.iter().map(|(n, _)| *n).chain(cell_scalars.iter().map(|(n, _)| *n)))?;
+    for (name, values) in point_vectors {
+        if values.len() != points.len() {
+            return Err(invalid(format!("point array '{name}' has {} entries for {} points", values.len(), points.len())));
+        }
+        if let Some(i) = values.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
+            return Err(invalid(format!("point array '{name}' has a non-finite value at point {i}")));
+        }
+    }
+    for (name, values) in cell_scalars {
+        if values.len() != triangles.len() {
+            return Err(invalid(format!("cell array '{name}' has {} entries for {} triangles", values.len(), triangles.len())));
+        }
+        if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+            return Err(invalid(format!("cell array '{name}' has a non-finite value at triangle {i}")));
+        }
+    }
+    let mut w = BufWriter::new(File::create(path)?);
+    write_header_and_points(&mut w, title, &pts)?;
+    writeln!(w, "POLYGONS {} {}", triangles.len(), 4 * triangles.len())?;
+    for t in triangles {
+        writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
+    }
+    if !point_vectors.is_empty() {
+        writeln!(w, "POINT_DATA {}", points.len())?;
+    }
+    for (name, values) in point_vectors {
+        writeln!(w, "VECTORS {name} double")?;
+        for v in values.iter() {
+            writeln!(w, "{:e} {:e} {:e}", v.x, v.y, v.z)?;
+        }
+    }
+    if !cell_scalars.is_empty() {
+        writeln!(w, "CELL_DATA {}", triangles.len())?;
+    }
+    for (name, values) in cell_scalars {
+        writeln!(w, "SCALARS {name} double 1")?;
+        writeln!(w, "LOOKUP_TABLE default")?;
+        for &x in values.iter() {
+            writeln!(w, "{x:e}")?;
+        }
+    }
+    w.flush()
+}
+
 /// The part shared by both writers: the four header lines and the POINTS block.
 fn write_header_and_points(w: &mut impl Write, title: &str, points: &[[f64; 3]]) -> io::Result<()> {
     writeln!(w, "{VTK_HEADER}")?;

@@ -5,6 +5,7 @@
 pub mod chen;
 pub mod colliding_disks;
 pub mod crack_patch;
+pub mod crack_patch_3d;
 pub mod cracks;
 pub mod fea;
 pub mod fracture;
@@ -26,6 +27,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "impact_energy", run: impact::run },
     Case { name: "colliding_disks", run: colliding_disks::run },
     Case { name: "crack_patch", run: crack_patch::run },
+    Case { name: "crack_patch_3d", run: crack_patch_3d::run },
     Case { name: "cracked_disks", run: cracks::run_disks },
     Case { name: "crack_friction", run: cracks::run_friction },
     Case { name: "fea_patch", run: fea::run_patch },

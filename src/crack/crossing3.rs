@@ -1,0 +1,461 @@
+//! The 3D crossing test of CRAMP (001 §2.1): does the line from a particle to a node
+//! cross a triangulated crack surface, and from which side? The 3D counterpart of the 2D
+//! line-crossing algorithm of [`crate::crack::geometry`] (Nairn 2003 appendix).
+//!
+//! # Exactness and the degenerate cases
+//!
+//! Every decision is an exact sign: `orient3d` (Shewchuk's adaptive predicate, `robust`
+//! crate) for the side of a point relative to a triangle's plane and for the side of a
+//! triangle edge relative to the line, and an exact expansion sum for the tie-breaks. The
+//! rules, for the segment L from particle P to node N and each triangle T (a, b, c):
+//!
+//! 1. **Side**: o_P, o_N = the exact side (+1 above, −1 below, 0 in the plane) of P and
+//!    N relative to T's plane. A triangle with o_P = 0 is ignored (a particle lying in a
+//!    crack's plane is not separated by it, as the 2D rule ignores a particle on the crack).
+//! 2. **Proper crossing**: o_P, o_N of opposite strict signs and the line through L
+//!    passing inside T: the three edge signs e_k = orient3d(P, N, v_k, v_{k+1}) equal.
+//!    Where the line meets an edge or a vertex exactly (some e_k = 0):
+//!    * on an **interior** edge or vertex (shared by two or more triangles) the zero is
+//!      resolved by translating the line by an infinitesimal δ = (ε, ε², ε³) (simulation
+//!      of simplicity): e_k takes the sign of the first non-zero component of
+//!      (N − P) × (v_k − v_{k+1}). This is one consistent perturbation of the line, so a
+//!      line through an interior edge or vertex of a surface it passes through is counted
+//!      exactly once, and one that only touches the surface there an even number of times;
+//!    * on a **boundary** edge or vertex (the crack front or an edge outside the body) it
+//!      is no crossing: a line grazing the crack's edge does not separate P from N (the 2D
+//!      rule for a line through a tip).
+//! 3. **Node on the surface**: o_N = 0, o_P ≠ 0 and N inside the closed triangle (on its
+//!    boundary too). The node lies on neither side, so the particle is across the crack
+//!    on its own side (the 2D rule 5 of `crossing_detail`).
+//! 4. **Result**: with the node on the surface, the side of the crossing nearest the
+//!    particle, the node's own triangle counting as a crossing at the node (ties: lowest
+//!    triangle index). Otherwise an odd number of proper crossings is a crossing, with the
+//!    side of the crossing nearest the node (ties: lowest triangle index), as in 2D.
+//!
+//! **Mirror symmetry**: exact signs flip exactly under a mirror about a grid plane, so
+//! every classification is mirrored except where rule 2's tie-break decides, i.e. for a
+//! line through an interior edge or vertex of a surface that is not flat there (the
+//! perturbation is not mirrored); on a flat surface every triangle around the point gives
+//! the same side, so mirrored scenes classify to the bit. The crack-patch test and its
+//! mirror images rely on this.
+
+use crate::dim::Vector3;
+use robust::{orient3d, Coord3D};
+
+/// Which side of the crack the particle is on, when the line to the node crosses it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side3 {
+    None,
+    /// Particle above (the side the normals point to): velocity field 1.
+    Above,
+    /// Particle below: field 2.
+    Below,
+}
+
+#[inline]
+fn c3(v: &Vector3) -> Coord3D<f64> {
+    Coord3D { x: v.x, y: v.y, z: v.z }
+}
+
+/// Exact side of x relative to the plane of (a, b, c): +1 above (the side of
+/// (b − a) × (c − a)), −1 below, 0 in the plane. (`orient3d` is positive when x is below.)
+#[inline]
+pub fn side_of_plane(a: &Vector3, b: &Vector3, c: &Vector3, x: &Vector3) -> i8 {
+    let o = orient3d(c3(a), c3(b), c3(c), c3(x));
+    if o > 0.0 {
+        -1
+    } else if o < 0.0 {
+        1
+    } else {
+        0
+    }
+}
+
+/// Exact sign of orient3d(P, N, u, v) (the side of edge u → v relative to the line P → N).
+#[inline]
+fn edge_sign(p: &Vector3, n: &Vector3, u: &Vector3, v: &Vector3) -> i8 {
+    let o = orient3d(c3(p), c3(n), c3(u), c3(v));
+    (o > 0.0) as i8 - (o < 0.0) as i8
+}
+
+/// The tie-break of rule 2: the sign orient3d(P + δ, N + δ, u, v) takes for the line
+/// translated by δ = (ε, ε², ε³), when it is zero at δ = 0. Its expansion in ε has the
+/// coefficients ((N − P) × (u − v))_x, _y, _z (orient3d is det[P − v; N − v; u − v]).
+fn perturbed_edge_sign(p: &Vector3, n: &Vector3, u: &Vector3, v: &Vector3) -> i8 {
+    // (N − P) × (u − v), component c = (N−P)_a (u−v)_b − (N−P)_b (u−v)_a, (a, b) cyclic,
+    // expanded into products of coordinates so its sign is exact.
+    for (a, b) in [(1, 2), (2, 0), (0, 1)] {
+        let terms = [
+            (n[a], u[b]),
+            (-n[a], v[b]),
+            (-p[a], u[b]),
+            (p[a], v[b]),
+            (-n[b], u[a]),
+            (n[b], v[a]),
+            (p[b], u[a]),
+            (-p[b], v[a]),
+        ];
+        let s = crate::crack::geometry::sign_of_products(&terms);
+        if s != 0 {
+            return s;
+        }
+    }
+    0
+}
+
+/// What the crossing test needs of one crack surface: its triangles and points, and
+/// which edges and vertices are on its boundary.
+pub struct SurfaceView<'a> {
+    pub points: &'a [Vector3],
+    pub triangles: &'a [[u32; 3]],
+    pub boundary_edge: &'a [[bool; 3]],
+    pub boundary_vertex: &'a [bool],
+}
+
+/// The verdict of one triangle for the segment P → N.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Verdict {
+    Miss,
+    /// Proper crossing at parameter t along P → N (approximate; for ordering), P's side.
+    Cross(f64, i8),
+    /// N lies on the triangle; P's side.
+    NodeOn(i8),
+}
+
+fn triangle_verdict(s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3) -> Verdict {
+    let tri = s.triangles[t];
+    let v = tri.map(|i| &s.points[i as usize]);
+    let op = side_of_plane(v[0], v[1], v[2], p);
+    if op == 0 {
+        return Verdict::Miss;
+    }
+    let on = side_of_plane(v[0], v[1], v[2], n);
+    if on == op {
+        return Verdict::Miss;
+    }
+    let mut e = [0i8; 3];
+    for k in 0..3 {
+        e[k] = edge_sign(p, n, v[k], v[(k + 1) % 3]);
+    }
+    if on == 0 {
+        // Rule 3: N in the closed triangle iff the non-zero edge signs agree.
+        let pos = e.iter().any(|&x| x > 0);
+        let neg = e.iter().any(|&x| x < 0);
+        return if pos && neg { Verdict::Miss } else { Verdict::NodeOn(op) };
+    }
+    // Rule 2.
+    let zeros = e.iter().filter(|&&x| x == 0).count();
+    if zeros > 0 {
+        for k in 0..3 {
+            if e[k] != 0 {
+                continue;
+            }
+            // Zero edge k (corner k → k+1). Two zeros: the line passes through their
+            // common corner; one zero: through the edge's interior.
+            let on_boundary = if zeros >= 2 {
+                let corner = if e[(k + 2) % 3] == 0 { k } else { (k + 1) % 3 };
+                s.boundary_vertex[tri[corner] as usize]
+            } else {
+                s.boundary_edge[t][k]
+            };
+            if on_boundary {
+                return Verdict::Miss;
+            }
+        }
+        for k in 0..3 {
+            if e[k] == 0 {
+                e[k] = perturbed_edge_sign(p, n, v[k], v[(k + 1) % 3]);
+            }
+        }
+    }
+    if e[0] != 0 && e[0] == e[1] && e[1] == e[2] {
+        // Parameter of the plane crossing from the plane distances (ordering only).
+        let nrm = (v[1] - v[0]).cross(&(v[2] - v[0]));
+        let (dp, dn) = ((p - v[0]).dot(&nrm), (n - v[0]).dot(&nrm));
+        let t = if dp != dn { dp / (dp - dn) } else { 0.5 };
+        Verdict::Cross(t, op)
+    } else {
+        Verdict::Miss
+    }
+}
+
+/// Rules 1–4 for one segment P → N, accumulated over candidate triangles: feed it every
+/// triangle whose closed bounding box meets the closed box of P and N (any order; the
+/// result does not depend on it), then read [`Crossing3::side`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Crossing3 {
+    count: usize,
+    /// (t, triangle, side) of the crossing nearest the node and nearest the particle.
+    near_node: Option<(f64, usize, i8)>,
+    near_particle: Option<(f64, usize, i8)>,
+    /// (triangle, particle side) of the lowest triangle the node lies on.
+    node_on: Option<(usize, i8)>,
+}
+
+impl Crossing3 {
+    /// Add triangle t's verdict.
+    #[inline]
+    pub fn add(&mut self, s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3) {
+        match triangle_verdict(s, t, p, n) {
+            Verdict::Miss => {}
+            Verdict::NodeOn(side) => {
+                if self.node_on.is_none_or(|(u, _)| t < u) {
+                    self.node_on = Some((t, side));
+                }
+            }
+            Verdict::Cross(x, side) => {
+                self.count += 1;
+                if self.near_node.is_none_or(|(y, u, _)| x > y || (x == y && t < u)) {
+                    self.near_node = Some((x, t, side));
+                }
+                if self.near_particle.is_none_or(|(y, u, _)| x < y || (x == y && t < u)) {
+                    self.near_particle = Some((x, t, side));
+                }
+            }
+        }
+    }
+
+    /// Rule 4.
+    pub fn side(&self) -> Side3 {
+        let side = match self.node_on {
+            Some((_, own)) => Some(self.near_particle.map_or(own, |(_, _, s)| s)),
+            None if self.count % 2 == 1 => self.near_node.map(|(_, _, s)| s),
+            None => None,
+        };
+        match side {
+            Some(1) => Side3::Above,
+            Some(_) => Side3::Below,
+            None => Side3::None,
+        }
+    }
+}
+
+/// [`Crossing3`] over all triangles of `candidates`.
+pub fn crossing(s: &SurfaceView, candidates: impl Iterator<Item = usize>, p: &Vector3, n: &Vector3) -> Side3 {
+    let mut acc = Crossing3::default();
+    for t in candidates {
+        acc.add(s, t, p, n);
+    }
+    acc.side()
+}
+
+/// Bucket index of a surface's triangles: a uniform grid of buckets over the surface's
+/// bounding box, each listing the triangles whose bounding boxes meet it (CSR). A query
+/// box visits only its buckets, and each triangle is reported once (in the first bucket
+/// of the query that holds it), so no de-duplication is needed.
+#[derive(Clone, Debug, Default)]
+pub struct TriangleIndex {
+    lo: Vector3,
+    inv: Vector3,
+    n: [usize; 3],
+    start: Vec<u32>,
+    items: Vec<u32>,
+    /// Bucket range (lo, hi inclusive) of each triangle.
+    range: Vec<[[u32; 3]; 2]>,
+    /// Bounding box of each triangle (exact: minima and maxima of its corners).
+    aabb: Vec<[Vector3; 2]>,
+}
+
+impl TriangleIndex {
+    /// Rebuild for `points`/`triangles` with buckets of about `bucket` per side.
+    pub fn rebuild(&mut self, points: &[Vector3], triangles: &[[u32; 3]], bucket: f64) {
+        let (lo, hi) = points.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), v| (l.inf(v), h.sup(v)));
+        let ext = hi - lo;
+        // At most 128 buckets per axis (memory bound for large cracks on fine grids).
+        let n = [0, 1, 2].map(|c| ((ext[c] / bucket).floor() as usize + 1).clamp(1, 128));
+        self.lo = lo;
+        self.inv = Vector3::from_fn(|c, _| if ext[c] > 0.0 { n[c] as f64 / ext[c] } else { 0.0 });
+        self.n = n;
+        self.range.clear();
+        self.aabb.clear();
+        for t in triangles {
+            let (tl, th) = t.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), &i| (l.inf(&points[i as usize]), h.sup(&points[i as usize])));
+            self.range.push([self.bucket_of(&tl), self.bucket_of(&th)]);
+            self.aabb.push([tl, th]);
+        }
+        let nb = n[0] * n[1] * n[2];
+        self.start.clear();
+        self.start.resize(nb + 1, 0);
+        let mut counts = vec![0u32; nb + 1];
+        for r in &self.range {
+            for_each_bucket(n, r, |b| counts[b + 1] += 1);
+        }
+        for b in 0..nb {
+            counts[b + 1] += counts[b];
+        }
+        self.start.copy_from_slice(&counts);
+        self.items.clear();
+        self.items.resize(counts[nb] as usize, 0);
+        let mut cursor = counts;
+        for (t, r) in self.range.iter().enumerate() {
+            for_each_bucket(n, r, |b| {
+                self.items[cursor[b] as usize] = t as u32;
+                cursor[b] += 1;
+            });
+        }
+    }
+
+    /// Bucket coordinates of x, clamped to the grid of buckets.
+    #[inline]
+    fn bucket_of(&self, x: &Vector3) -> [u32; 3] {
+        [0, 1, 2].map(|c| {
+            let f = ((x[c] - self.lo[c]) * self.inv[c]).floor();
+            if f.is_nan() || f < 0.0 {
+                0
+            } else {
+                (f as usize).min(self.n[c] - 1) as u32
+            }
+        })
+    }
+
+    /// Every triangle whose closed bounding box meets the closed box [lo, hi], once each
+    /// (a triangle that misses the box cannot meet a segment inside it).
+    pub fn near(&self, lo: &Vector3, hi: &Vector3, mut f: impl FnMut(usize)) {
+        if self.start.is_empty() {
+            return;
+        }
+        let (ql, qh) = (self.bucket_of(lo), self.bucket_of(hi));
+        let q = [ql, qh];
+        for_each_bucket(self.n, &q, |b| {
+            let (bx, by, bz) = (b % self.n[0], (b / self.n[0]) % self.n[1], b / (self.n[0] * self.n[1]));
+            let bc = [bx as u32, by as u32, bz as u32];
+            for &t in &self.items[self.start[b] as usize..self.start[b + 1] as usize] {
+                let r = &self.range[t as usize];
+                // Report only in the first bucket of the overlap of the two ranges.
+                if (0..3).all(|c| bc[c] == r[0][c].max(ql[c])) {
+                    let [tl, th] = &self.aabb[t as usize];
+                    if (0..3).all(|c| tl[c] <= hi[c] && th[c] >= lo[c]) {
+                        f(t as usize);
+                    }
+                }
+            }
+        });
+    }
+}
+
+#[inline]
+fn for_each_bucket(n: [usize; 3], r: &[[u32; 3]; 2], mut f: impl FnMut(usize)) {
+    for z in r[0][2]..=r[1][2] {
+        for y in r[0][1]..=r[1][1] {
+            for x in r[0][0]..=r[1][0] {
+                f(x as usize + n[0] * (y as usize + n[1] * z as usize));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::crack::surface::{planar_polygon, TriangleSurface};
+
+    fn view_of(s: &TriangleSurface) -> (Vec<[bool; 3]>, Vec<bool>) {
+        s.boundary_flags()
+    }
+
+    fn classify(s: &TriangleSurface, p: Vector3, n: Vector3) -> Side3 {
+        let (be, bv) = view_of(s);
+        let v = SurfaceView { points: &s.vertices, triangles: &s.triangles, boundary_edge: &be, boundary_vertex: &bv };
+        crossing(&v, 0..s.triangles.len(), &p, &n)
+    }
+
+    fn square() -> TriangleSurface {
+        // z = 0, [0, 4]², normal +z; a structured mesh with shared edges and vertices.
+        let pts = [Vector3::new(0.0, 0.0, 0.0), Vector3::new(4.0, 0.0, 0.0), Vector3::new(4.0, 4.0, 0.0), Vector3::new(0.0, 4.0, 0.0)];
+        planar_polygon(&pts, 1.0).unwrap()
+    }
+
+    #[test]
+    fn perturbed_sign_matches_a_small_real_translation() {
+        // Degenerate: the line through an edge of the triangle.
+        let (u, v) = (Vector3::new(0.0, 0.0, 0.0), Vector3::new(1.0, 1.0, 0.0));
+        let (p, n) = (Vector3::new(0.5, 0.5, 1.0), Vector3::new(0.5, 0.5, -1.0));
+        assert_eq!(edge_sign(&p, &n, &u, &v), 0);
+        let s = perturbed_edge_sign(&p, &n, &u, &v);
+        let d = Vector3::new(1e-7, 1e-14, 1e-21);
+        assert_eq!(edge_sign(&(p + d), &(n + d), &u, &v), s);
+        assert_ne!(s, 0);
+    }
+
+    #[test]
+    fn straight_through_and_degenerate_lines_count_once() {
+        let s = square();
+        // Every vertex and every edge midpoint of the mesh, and generic points.
+        let mut targets: Vec<Vector3> = s.vertices.clone();
+        for t in &s.triangles {
+            for k in 0..3 {
+                targets.push((s.vertices[t[k] as usize] + s.vertices[t[(k + 1) % 3] as usize]) * 0.5);
+            }
+        }
+        for x in targets {
+            let inside = x.x > 0.0 && x.x < 4.0 && x.y > 0.0 && x.y < 4.0;
+            let (p, n) = (x + Vector3::new(0.0, 0.0, 1.0), x - Vector3::new(0.0, 0.0, 1.0));
+            let want = if inside { Side3::Above } else { Side3::None };
+            assert_eq!(classify(&s, p, n), want, "vertical line through {x:?}");
+            let want = if inside { Side3::Below } else { Side3::None };
+            assert_eq!(classify(&s, n, p), want);
+            // oblique through the same point (exact coordinates: the line meets it exactly)
+            let d = Vector3::new(0.25, -0.125, 1.0);
+            let want = if inside { Side3::Above } else { Side3::None };
+            assert_eq!(classify(&s, x + d, x - d * 0.5), want, "oblique through {x:?}");
+        }
+    }
+
+    #[test]
+    fn node_on_the_surface_takes_the_particle_side() {
+        let s = square();
+        for x in [Vector3::new(1.0, 1.0, 0.0), Vector3::new(2.0, 0.0, 0.0), Vector3::new(1.3, 2.7, 0.0)] {
+            assert_eq!(classify(&s, x + Vector3::new(0.2, 0.1, 0.5), x), Side3::Above);
+            assert_eq!(classify(&s, x + Vector3::new(0.2, 0.1, -0.5), x), Side3::Below);
+            // particle in the plane: not separated
+            assert_eq!(classify(&s, x + Vector3::new(0.2, 0.1, 0.0), x), Side3::None);
+        }
+    }
+
+    #[test]
+    fn mirror_images_classify_mirrored() {
+        let s = square();
+        let m = |v: &Vector3| Vector3::new(v.x, v.y, -v.z);
+        let mut rng = 12345u64;
+        let mut r = || {
+            rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((rng >> 11) as f64 / (1u64 << 53) as f64) * 6.0 - 1.0
+        };
+        for _ in 0..2000 {
+            // Points on a quarter grid so that degenerate lines are frequent.
+            let q = |x: f64| (x * 4.0).round() / 4.0;
+            let p = Vector3::new(q(r()), q(r()), q(r() - 2.5) + 0.25);
+            let n = Vector3::new(q(r()), q(r()), q(r() - 2.5));
+            let a = classify(&s, p, n);
+            let b = classify(&s, m(&p), m(&n));
+            let mirrored = match a {
+                Side3::Above => Side3::Below,
+                Side3::Below => Side3::Above,
+                Side3::None => Side3::None,
+            };
+            assert_eq!(b, mirrored, "{p:?} {n:?}");
+        }
+    }
+
+    #[test]
+    fn index_reports_every_candidate_once() {
+        let s = square();
+        let mut idx = TriangleIndex::default();
+        idx.rebuild(&s.vertices, &s.triangles, 0.7);
+        for (lo, hi) in [(Vector3::new(-1.0, -1.0, -1.0), Vector3::new(5.0, 5.0, 1.0)), (Vector3::new(1.2, 0.5, -0.1), Vector3::new(2.1, 1.4, 0.2))] {
+            let mut seen = Vec::new();
+            idx.near(&lo, &hi, |t| seen.push(t));
+            let mut sorted = seen.clone();
+            sorted.sort();
+            sorted.dedup();
+            assert_eq!(sorted.len(), seen.len());
+            for (t, tri) in s.triangles.iter().enumerate() {
+                let (tl, th) = tri.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), &i| (l.inf(&s.vertices[i as usize]), h.sup(&s.vertices[i as usize])));
+                let meets = (0..3).all(|c| tl[c] <= hi[c] && th[c] >= lo[c]);
+                if meets {
+                    assert!(seen.contains(&t));
+                }
+            }
+        }
+    }
+}

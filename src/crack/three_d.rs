@@ -1,0 +1,459 @@
+//! 3D explicit cracks (001 §2.1): triangulated crack surfaces of massless crack particles,
+//! the velocity field of every particle–node pair by the exact segment–triangle crossing
+//! of [`crossing3`] (Task 1), crack motion in the centre-of-mass velocity and the two crack
+//! surfaces moved in their own sides' fields (Task 7; 001 eqs. 11–12 in 3D), and the
+//! checked-mode test that no particle crosses a crack. Contact is dimension-generic
+//! ([`crate::contact`]); the node normal it uses is formed here.
+//!
+//! "In 3D CRAMP a crack is discretized into a set of triangular elements instead of line
+//! segments, but otherwise the 3D algorithm is essentially the same as the 2D one" (001
+//! §2.1): each function below is the 2D one of [`crate::crack`] with triangles for
+//! segments.
+
+use super::crossing3::{side_of_plane, Crossing3, Side3, SurfaceView, TriangleIndex};
+use super::surface::TriangleSurface;
+use super::{ContactDetection, ContactLaw};
+use crate::check::CheckError;
+use crate::dim::{GridGeometry, Space, Vector3, D3};
+use crate::exact::{Accumulator, ExactSums, FastSum};
+use crate::shape::ShapeKind;
+use crate::simulation::Simulation;
+use rayon::prelude::*;
+
+/// One 3D crack: its surface (the vertices are the crack particles), the two crack
+/// surfaces (the "above" and "below" positions of every crack particle), its contact law,
+/// and its front.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Crack3 {
+    pub surface: TriangleSurface,
+    /// Upper-surface position of each crack particle (moved in the "above" fields).
+    pub above: Vec<Vector3>,
+    /// Lower-surface position of each crack particle (moved in the "below" fields).
+    pub below: Vec<Vector3>,
+    pub contact: ContactLaw,
+    pub v_sep: f64,
+    pub v_contact: f64,
+    pub detection: ContactDetection,
+    /// Per triangle, which edges are on the surface's boundary; per vertex, whether it is.
+    pub boundary_edge: Vec<[bool; 3]>,
+    pub boundary_vertex: Vec<bool>,
+    /// Crack-front edges: boundary edges with material beyond them (directed as in their
+    /// triangle, so the surface is on their left seen from above).
+    pub front: Vec<[u32; 2]>,
+}
+
+impl Crack3 {
+    pub fn new(surface: TriangleSurface, contact: ContactLaw, v_sep: f64, v_contact: f64, front: Vec<[u32; 2]>) -> Crack3 {
+        let (boundary_edge, boundary_vertex) = surface.boundary_flags();
+        Crack3 {
+            above: surface.vertices.clone(),
+            below: surface.vertices.clone(),
+            surface,
+            contact,
+            v_sep,
+            v_contact,
+            detection: ContactDetection::Volume,
+            boundary_edge,
+            boundary_vertex,
+            front,
+        }
+    }
+
+    /// The view the crossing test reads.
+    pub fn view(&self) -> SurfaceView<'_> {
+        SurfaceView { points: &self.surface.vertices, triangles: &self.surface.triangles, boundary_edge: &self.boundary_edge, boundary_vertex: &self.boundary_vertex }
+    }
+
+    /// Crack-opening displacement at crack particle k: above − below.
+    pub fn opening(&self, k: usize) -> Vector3 {
+        self.above[k] - self.below[k]
+    }
+}
+
+impl crate::contact::CrackFaces for Crack3 {
+    fn law(&self) -> ContactLaw {
+        self.contact
+    }
+    fn v_sep(&self) -> f64 {
+        self.v_sep
+    }
+    fn v_contact(&self) -> f64 {
+        self.v_contact
+    }
+    fn detection(&self) -> ContactDetection {
+        self.detection
+    }
+}
+
+/// No crack growth in 3D yet (issue 17): no value of this type exists.
+#[derive(Clone, Debug)]
+pub enum NoGrowth3 {}
+
+/// The 3D crack machinery as the generic time step calls it.
+impl crate::simulation::Dimension for D3 {
+    type Crack = Crack3;
+    type Growth = NoGrowth3;
+
+    fn task1_cracks(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
+        assign_velocity_fields(sim)
+    }
+    fn finish_crack_nodes(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
+        finish_crack_nodes(sim)
+    }
+    fn contact_momenta(sim: &mut Simulation<D3>) {
+        sim.apply_contact_to_momenta()
+    }
+    fn contact_updated_momenta(sim: &mut Simulation<D3>) {
+        sim.apply_contact_to_updated_momenta()
+    }
+    fn normal_gap(_: &Simulation<D3>, _: usize, _: usize) -> Option<f64> {
+        None // refused when the scene is read: 3D contact detects by volume
+    }
+    fn task7_move_cracks(sim: &mut Simulation<D3>) {
+        task7_move_cracks(sim)
+    }
+    fn grow_cracks(_: &mut Simulation<D3>) -> Result<(), CheckError> {
+        Ok(())
+    }
+    fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
+        check_crack_sides(sim)
+    }
+    /// Per crack: the number of points, then every point, upper and lower surface point.
+    fn crack_state_bits(cracks: &[Crack3]) -> Vec<u64> {
+        let mut words = Vec::new();
+        for c in cracks {
+            words.push(c.surface.vertices.len() as u64);
+            for pts in [&c.surface.vertices, &c.above, &c.below] {
+                words.extend(pts.iter().flat_map(|q| [q.x.to_bits(), q.y.to_bits(), q.z.to_bits()]));
+            }
+        }
+        words
+    }
+}
+
+/// Bounding box of points.
+fn bounds(points: &[Vector3]) -> (Vector3, Vector3) {
+    points.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), v| (l.inf(v), h.sup(v)))
+}
+
+/// Rebuild every crack's triangle index (buckets of one cell).
+fn rebuild_indices(sim: &mut Simulation<D3>) {
+    let h = sim.grid.min_h();
+    let idx = &mut sim.scratch.crack_index3;
+    idx.resize_with(sim.cracks.len(), Default::default);
+    for (index, crack) in idx.iter_mut().zip(&sim.cracks) {
+        index.rebuild(&crack.surface.vertices, &crack.surface.triangles, h);
+    }
+}
+
+/// Task 1 with cracks: ν(p,i) for every pair by the exact crossing test, and the crack
+/// that split each node (the 2D [`Simulation::assign_velocity_fields`] with triangles).
+/// A particle whose reach (every node it can touch) misses every crack's bounding box
+/// costs one box test; a pair near a crack tests only the triangles the bucket index
+/// finds near its particle–node box.
+fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
+    const STRIDE: usize = D3::MAX_NODES;
+    rebuild_indices(sim);
+    let grid = &sim.grid;
+    let p = &sim.particles;
+    let pairs = &mut sim.pairs;
+    let scratch = &mut sim.scratch;
+    let cracks = &sim.cracks;
+    let index = &scratch.crack_index3;
+    scratch.pair_crack.resize(pairs.field.len(), 0);
+    // As in 2D: a particle's nodes lie within h + l_p of it per axis (with round-off).
+    let reach = (grid.h + p.lp.iter().fold(Vector3::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
+    let extents: Vec<(Vector3, Vector3)> = cracks.iter().map(|c| bounds(&c.surface.vertices)).collect();
+    let views: Vec<SurfaceView> = cracks.iter().map(|c| c.view()).collect();
+    let (count, node) = (&pairs.count, &pairs.node);
+    (pairs.field.par_chunks_mut(STRIDE), scratch.pair_crack.par_chunks_mut(STRIDE))
+        .into_par_iter()
+        .with_min_len(crate::step::PARTICLE_CHUNK)
+        .enumerate()
+        .map(|(i, (field, pair_crack))| {
+            let xp = p.x[i];
+            let near = |e: &(Vector3, Vector3)| (0..3).all(|c| xp[c] + reach[c] >= e.0[c] && xp[c] - reach[c] <= e.1[c]);
+            if !extents.iter().any(near) {
+                field.fill(0);
+                return false;
+            }
+            let mut split = false;
+            for k in 0..count[i] as usize {
+                let xn = grid.node_pos(node[i * STRIDE + k] as usize);
+                field[k] = 0;
+                let (lo, hi) = (xp.inf(&xn), xp.sup(&xn));
+                for (c, view) in views.iter().enumerate() {
+                    let e = &extents[c];
+                    if (0..3).any(|a| hi[a] < e.0[a] || lo[a] > e.1[a]) {
+                        continue;
+                    }
+                    let mut acc = Crossing3::default();
+                    index[c].near(&lo, &hi, |t| acc.add(view, t, &xp, &xn));
+                    let side = acc.side();
+                    if side != Side3::None {
+                        field[k] = if side == Side3::Above { 1 } else { 2 };
+                        pair_crack[k] = c as u16;
+                        split = true;
+                        break;
+                    }
+                }
+            }
+            split
+        })
+        .collect_into_vec(&mut scratch.split);
+    // The crack that split each node; two different cracks at one node stop the run.
+    let node_crack = &mut sim.nodes.crack;
+    node_crack.fill(u16::MAX);
+    for i in (0..p.len()).filter(|&i| scratch.split[i]) {
+        for k in pairs.of_particle(i) {
+            if pairs.field[k] == 0 {
+                continue;
+            }
+            let (node, c) = (pairs.node[k] as usize, scratch.pair_crack[k]);
+            let nc = node_crack[node];
+            if nc != u16::MAX && nc != c {
+                return Err(too_many_fields(sim, node, vec![nc as usize, c as usize]));
+            }
+            node_crack[node] = c;
+        }
+    }
+    Ok(())
+}
+
+fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> CheckError {
+    let x = sim.grid.node_pos(node);
+    CheckError::TooManyFields3 { step: sim.step_count, ijk: sim.grid.node_ijk(node), x: vec![x.x, x.y, x.z], cracks }
+}
+
+/// The point of triangle (a, b, c) closest to x (Ericson, Real-Time Collision Detection
+/// §5.1.5), with its barycentric coordinates.
+fn closest_on_triangle(x: &Vector3, a: &Vector3, b: &Vector3, c: &Vector3) -> (Vector3, [f64; 3]) {
+    let (ab, ac, ap) = (b - a, c - a, x - a);
+    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return (*a, [1.0, 0.0, 0.0]);
+    }
+    let bp = x - b;
+    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return (*b, [0.0, 1.0, 0.0]);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return (a + ab * v, [1.0 - v, v, 0.0]);
+    }
+    let cp = x - c;
+    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return (*c, [0.0, 0.0, 1.0]);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return (a + ac * w, [1.0 - w, 0.0, w]);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (b + (c - b) * w, [0.0, 1.0 - w, w]);
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let (v, w) = (vb * denom, vc * denom);
+    (a + ab * v + ac * w, [1.0 - v - w, v, w])
+}
+
+/// The triangle of `crack` nearest x within `reach` (ties: lowest index), with the
+/// barycentric coordinates of the nearest point. Searched in boxes of growing size
+/// (reach/4, reach/2, reach): a triangle found at distance d ≤ r in the box of half-size r
+/// is the nearest of all, since every triangle closer than d meets that box.
+fn nearest_triangle(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> Option<(usize, [f64; 3])> {
+    for r in [0.25 * reach, 0.5 * reach, reach] {
+        let rv = Vector3::repeat(r);
+        let mut best: Option<(f64, usize, [f64; 3])> = None;
+        index.near(&(x - rv), &(x + rv), |t| {
+            let [a, b, c] = crack.surface.triangles[t].map(|i| crack.surface.vertices[i as usize]);
+            let (q, bary) = closest_on_triangle(x, &a, &b, &c);
+            let d = (x - q).norm_squared();
+            if d <= r * r && best.is_none_or(|(bd, bt, _)| d < bd || (d == bd && t < bt)) {
+                best = Some((d, t, bary));
+            }
+        });
+        if let Some((_, t, b)) = best {
+            return Some((t, b));
+        }
+    }
+    None
+}
+
+/// +1 above, −1 below the crack near x, 0 unknown: the exact side of x relative to the
+/// plane of the nearest triangle within `reach`, unknown when there is none or the nearest
+/// point lies on the surface's boundary (beyond the front or an outer edge) — the 3D
+/// counterpart of the 2D `side_of` (a point whose projection falls inside a segment).
+fn side_of(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> i8 {
+    let Some((t, bary)) = nearest_triangle(crack, index, x, reach) else { return 0 };
+    let tri = crack.surface.triangles[t];
+    for k in 0..3 {
+        // Edge k joins corners k and k + 1; the nearest point is on it when the opposite
+        // corner's coordinate vanishes.
+        if crack.boundary_edge[t][k] && bary[(k + 2) % 3] == 0.0 {
+            return 0;
+        }
+    }
+    let [a, b, c] = tri.map(|i| crack.surface.vertices[i as usize]);
+    side_of_plane(&a, &b, &c, x)
+}
+
+/// After the Task 1 gather: every node has at most two fields; a node with two fields gets
+/// the crack normal from above to below: the unit normal of the crack triangle nearest the
+/// node (the 2D rule, nearest segment, with triangles; Nairn 2003 §2.2 saves the normal of
+/// the crossed segment). Exact for planar cracks; on a curved crack the nearest triangle
+/// is the best local plane the mesh offers, and unlike an average over crossed triangles
+/// it does not depend on which particles happen to surround the node.
+fn finish_crack_nodes(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
+    let reach = 2.0 * sim.grid.h.max();
+    for a in 0..sim.nodes.active.len() {
+        let i = sim.nodes.active[a] as usize;
+        let present = sim.nodes.present[i];
+        if present == 0b111 {
+            let c = sim.nodes.crack[i] as usize;
+            return Err(too_many_fields(sim, i, vec![c]));
+        }
+        if present.count_ones() == 2 {
+            let c = sim.nodes.crack[i] as usize;
+            let crack = &sim.cracks[c];
+            let x = sim.grid.node_pos(i);
+            let t = nearest_triangle(crack, &sim.scratch.crack_index3[c], &x, reach).map_or(0, |(t, _)| t);
+            sim.nodes.normal[i] = -crack.surface.normal(t).normalize();
+        }
+    }
+    Ok(())
+}
+
+/// Centre-of-mass velocity of node i over its fields (eq. 32), None without mass.
+fn centre_of_mass_velocity(sim: &Simulation<D3>, i: usize) -> Option<Vector3> {
+    let present = sim.nodes.present[i];
+    if present == 0 {
+        return None;
+    }
+    fn sums<A: Accumulator<4>>(nodes: &crate::grid::Nodes<Vector3>, present: u8, i: usize) -> Option<[f64; 4]> {
+        let mut a = A::default();
+        for (f, fa) in nodes.fields.iter().enumerate() {
+            if present & (1 << f) != 0 {
+                a.add([fa.mom[i].x, fa.mom[i].y, fa.mom[i].z, fa.mass[i]]);
+            }
+        }
+        a.certified()
+    }
+    let [px, py, pz, m] = sums::<FastSum<4>>(&sim.nodes, present, i).or_else(|| sums::<ExactSums<4>>(&sim.nodes, present, i)).expect("exact sums certify");
+    Some(Vector3::new(px, py, pz) / m)
+}
+
+/// Velocity at x from the nodes' fields chosen by `field(i)`, with the linear shape
+/// functions renormalised over the nodes that have one (001's N*); zero if none has.
+fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Option<Vector3>) -> Vector3 {
+    let mut node = [0u32; D3::MAX_NODES];
+    let mut s = [0.0; D3::MAX_NODES];
+    let mut g = [Vector3::zeros(); D3::MAX_NODES];
+    let n = D3::weights_into(&sim.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s, &mut g);
+    fn sums<A: Accumulator<4>>(n: usize, node: &[u32], s: &[f64], field: &dyn Fn(usize) -> Option<Vector3>) -> Option<[f64; 4]> {
+        let mut a = A::default();
+        for k in 0..n {
+            if let Some(v) = field(node[k] as usize) {
+                a.add([s[k] * v.x, s[k] * v.y, s[k] * v.z, s[k]]);
+            }
+        }
+        a.certified()
+    }
+    let [sx, sy, sz, ws] = sums::<FastSum<4>>(n, &node, &s, field).or_else(|| sums::<ExactSums<4>>(n, &node, &s, field)).expect("exact sums certify");
+    if ws > 0.0 {
+        Vector3::new(sx, sy, sz) / ws
+    } else {
+        Vector3::zeros()
+    }
+}
+
+/// Task 7 in 3D: every crack particle moves in the centre-of-mass velocity of its nodes
+/// (eq. 32), each crack-surface point in the velocity field of its own side (001 eqs.
+/// 11–12; [`super::side_field`] chooses the field, as in 2D).
+fn task7_move_cracks(sim: &mut Simulation<D3>) {
+    let dt = sim.options.dt;
+    let reach = 2.0 * sim.grid.h.max();
+    rebuild_indices(sim);
+    let mut cracks = std::mem::take(&mut sim.cracks);
+    let this: &Simulation<D3> = sim;
+    const POINT_CHUNK: usize = 32;
+    for (c, crack) in cracks.iter_mut().enumerate() {
+        {
+            let index = &this.scratch.crack_index3[c];
+            let shape: &Crack3 = &*crack;
+            // The geometric side of every node the crack's points touch, once per step
+            // (sorted by node; looked up by binary search).
+            let mut touched: Vec<u32> = Vec::new();
+            let mut node = [0u32; D3::MAX_NODES];
+            let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
+            for x in shape.above.iter().chain(&shape.below) {
+                let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
+                touched.extend_from_slice(&node[..n]);
+            }
+            touched.sort_unstable();
+            touched.dedup();
+            let sides: Vec<i8> = touched.par_iter().map(|&i| side_of(shape, index, &this.grid.node_pos(i as usize), reach)).collect();
+            let node_side = |i: usize| touched.binary_search(&(i as u32)).map_or(0, |k| sides[k]);
+            let side = |i: usize, above: bool| {
+                let nodes = &this.nodes;
+                super::side_field(nodes.present[i], nodes.crack[i], c, above, || node_side(i)).map(|f| nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
+            };
+            let mut above = shape.above.clone();
+            let mut below = shape.below.clone();
+            for (surface, is_above) in [(&mut above, true), (&mut below, false)] {
+                surface.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &|i| side(i, is_above)) * dt);
+            }
+            crack.above = above;
+            crack.below = below;
+        }
+        let cm = |i: usize| centre_of_mass_velocity(this, i);
+        crack.surface.vertices.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &cm) * dt);
+    }
+    sim.cracks = cracks;
+}
+
+/// Checked mode: no particle near a crack changes side (the 2D check with triangles). A
+/// particle's side is known when its nearest point on the crack, within two cells, is not
+/// on the crack's boundary; passing round the front goes through "unknown".
+fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
+    rebuild_indices(sim);
+    let nc = sim.cracks.len();
+    let reach = 2.0 * sim.grid.h.max();
+    let p = &sim.particles;
+    if sim.crack_side.len() != p.len() * nc {
+        sim.crack_side = vec![0; p.len() * nc];
+    }
+    for (c, crack) in sim.cracks.iter().enumerate() {
+        let index = &sim.scratch.crack_index3[c];
+        let (lo, hi) = bounds(&crack.surface.vertices);
+        let r = Vector3::repeat(reach);
+        let (lo, hi) = (lo - r, hi + r);
+        let sides: Vec<i8> = (0..p.len())
+            .into_par_iter()
+            .with_min_len(crate::step::PARTICLE_CHUNK)
+            .map(|i| {
+                let x = p.x[i];
+                if (0..3).any(|a| x[a] < lo[a] || x[a] > hi[a]) {
+                    0
+                } else {
+                    side_of(crack, index, &x, reach)
+                }
+            })
+            .collect();
+        for (i, side) in sides.into_iter().enumerate() {
+            let slot = p.id[i] as usize * nc + c;
+            let before = sim.crack_side[slot];
+            if before != 0 && side != 0 && side != before {
+                return Err(CheckError::CrackCrossing { step: sim.step_count, particle: i, id: p.id[i], crack: c, before, after: side });
+            }
+            sim.crack_side[slot] = side;
+        }
+    }
+    Ok(())
+}
