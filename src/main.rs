@@ -87,8 +87,8 @@ enum Command {
     /// Run the embedded demo scene (two colliding disks) into out/demo/ (replacing an
     /// earlier demo run there).
     Demo,
-    /// Solve a scene statically with the Q4 FEA: fea.vtk, fea_gauss.vtk, fea_nodes.csv,
-    /// probe CSVs and fea_summary.json (J, K per crack tip) in --out.
+    /// Solve a scene statically: Q4 elements (2D) or hex8 (3D scene); fea.vtk, fea_gauss.vtk,
+    /// fea_nodes.csv, probe CSVs and fea_summary.json (J, K per crack tip in 2D) in --out.
     Fea {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -256,14 +256,14 @@ fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool, force: bool, 
 }
 
 fn fea(scene_path: PathBuf, out: Option<PathBuf>, force: bool, set: &[String]) -> anyhow::Result<()> {
-    let scene = match read_scene(&scene_path, set)? {
-        AnyScene::D2(scene) => scene,
-        AnyScene::D3(_) => anyhow::bail!("`cramp fea` solves 2D scenes only; {} is a 3D scene (grid.cell has 3 components). The 3D FEA is not built yet (issue 18)", scene_path.display()),
-    };
+    let scene = read_scene(&scene_path, set)?;
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-fea")));
     prepare_out_dir(&out, force)?;
-    out!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text());
+    match scene {
+        AnyScene::D2(scene) => out!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text()),
+        AnyScene::D3(scene) => out!("{}", cramp::fea::run3::run_fea_3d(&scene, Some(&out))?.text()),
+    }
     Ok(())
 }
 

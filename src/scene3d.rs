@@ -54,6 +54,21 @@ pub struct Scene3 {
     /// The directory of the scene file, for relative STL paths (not a scene field).
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,
+    /// Line probes: stresses sampled along segments (written by `cramp fea`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<ProbeSpec3>,
+}
+
+/// A line probe: `points` equally spaced samples from `from` to `to` (both included).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec3 {
+    /// Name, used in the file name `probe_<name>.csv`: letters, digits, `_` and `-`.
+    pub name: String,
+    pub from: [f64; 3],
+    pub to: [f64; 3],
+    /// Number of sample points, both ends included (2 to 100000).
+    pub points: usize,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -379,7 +394,7 @@ fn radial(x: &Vector3, from: &[f64; 3], to: &[f64; 3]) -> Option<f64> {
 }
 
 impl Selection3 {
-    fn tolerance(&self, h: f64) -> f64 {
+    pub(crate) fn tolerance(&self, h: f64) -> f64 {
         match self {
             Selection3::Box { .. } => 1e-9 * h,
             Selection3::Plane { tolerance, .. } => tolerance.unwrap_or(0.25 * h),
@@ -387,7 +402,7 @@ impl Selection3 {
         }
     }
 
-    fn contains(&self, x: &Vector3, tol: f64) -> bool {
+    pub(crate) fn contains(&self, x: &Vector3, tol: f64) -> bool {
         match self {
             Selection3::Box { min, max } => (0..3).all(|c| x[c] >= min[c] - tol && x[c] <= max[c] + tol),
             Selection3::Plane { point, normal, .. } => {
@@ -571,6 +586,12 @@ impl Scene3 {
             if l.ramp.is_nan() || l.ramp < 0.0 || l.ramp.is_infinite() {
                 return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive and finite, got {}", l.ramp)));
             }
+        }
+        let (lo, hi) = (self.grid.origin, std::array::from_fn::<f64, 3, _>(|c| self.grid.origin[c] + self.grid.size[c]));
+        for (i, p) in self.probes.iter().enumerate() {
+            let before: Vec<&str> = self.probes[..i].iter().map(|o| o.name.as_str()).collect();
+            let h = self.grid.cell.iter().fold(f64::INFINITY, |m, &c| m.min(c));
+            crate::scene::validate_probe(i, &p.name, &before, &p.from, &p.to, p.points, &lo, &hi, h)?;
         }
         let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
         let mats: Vec<(f64, f64)> = self.materials.iter().map(|m| (m.e, m.rho)).collect();
