@@ -343,9 +343,15 @@ impl Solid {
             Solid::Box { min, max } => (v3(*min), v3(*max)),
             Solid::Sphere { center, radius } => (v3(*center) - Vector3::repeat(*radius), v3(*center) + Vector3::repeat(*radius)),
             Solid::Cylinder { from, to, radius } | Solid::Tube { from, to, radius, .. } => {
-                // The end discs lie within radius of their centres in every direction.
+                // The end discs reach radius·√(1 − d_c²) from their centres along axis c, d
+                // the unit axis (0 along an axis-aligned cylinder's own axis); radius in
+                // every direction if the axis has no length.
                 let (a, b) = (v3(*from), v3(*to));
-                (a.inf(&b) - Vector3::repeat(*radius), a.sup(&b) + Vector3::repeat(*radius))
+                let r = match (b - a).try_normalize(0.0) {
+                    Some(d) => Vector3::from_fn(|c, _| radius * (1.0 - d[c] * d[c]).max(0.0).sqrt()),
+                    None => Vector3::repeat(*radius),
+                };
+                (a.inf(&b) - r, a.sup(&b) + r)
             }
             Solid::Extrusion { points, axis, from, to } => {
                 let a = axis.index();

@@ -113,5 +113,7 @@ golden_case!(
     bar_3d,
     spheres_3d,
     block_3d,
-    extrusion_2d_3d
+    extrusion_2d_3d,
+    cracks_2d_3d,
+    cracked_spheres_3d
 );

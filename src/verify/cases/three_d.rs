@@ -238,8 +238,8 @@ pub fn run_extrusion(variant: Variant) -> anyhow::Result<CaseOutput> {
             Solid::Box { min, max } => max[2] - min[2],
             _ => bail!("the 3D bar must be a box"),
         };
-        let (s2b, s3b) = (s2.build()?, s3.build()?);
-        compare_extrusion(&mut out, &format!("bar {}", scheme_name(scheme)), s2b, s3b, s2.solver.end_time, width)?;
+        let (mut s2b, mut s3b) = (s2.build()?, s3.build()?);
+        compare_extrusion(&mut out, &format!("bar {}", scheme_name(scheme)), &mut s2b, &mut s3b, s2.solver.end_time, width, |_, _| {})?;
     }
     // 2. The Delrin impact in plane strain (two bodies, impact through the shared field).
     let s2 = SceneFile::new("extrusion_impact_2d.toml").load()?;
@@ -248,13 +248,22 @@ pub fn run_extrusion(variant: Variant) -> anyhow::Result<CaseOutput> {
         Solid::Box { min, max } => max[2] - min[2],
         _ => bail!("the 3D beam must be a box"),
     };
-    compare_extrusion(&mut out, "impact", s2.build()?, s3.build()?, s2.solver.end_time, width)?;
+    compare_extrusion(&mut out, "impact", &mut s2.build()?, &mut s3.build()?, s2.solver.end_time, width, |_, _| {})?;
     Ok(out)
 }
 
 /// Run both to `end` and compare energies at every step (3D = width × 2D) and the final
-/// particle fields (every 3D particle against the 2D particle at the same x, y).
-fn compare_extrusion(out: &mut CaseOutput, label: &str, mut s2: Simulation, mut s3: Simulation<D3>, end: f64, width: f64) -> anyhow::Result<()> {
+/// particle fields (every 3D particle against the 2D particle at the same x, y);
+/// `after_step` sees both after every step (the crack cases compare their cracks there).
+pub(crate) fn compare_extrusion(
+    out: &mut CaseOutput,
+    label: &str,
+    s2: &mut Simulation,
+    s3: &mut Simulation<D3>,
+    end: f64,
+    width: f64,
+    mut after_step: impl FnMut(&Simulation, &Simulation<D3>),
+) -> anyhow::Result<()> {
     if s2.options.dt != s3.options.dt {
         bail!("{label}: the 2D and 3D time steps differ ({} vs {}); the scenes do not match", s2.options.dt, s3.options.dt);
     }
@@ -262,6 +271,7 @@ fn compare_extrusion(out: &mut CaseOutput, label: &str, mut s2: Simulation, mut 
     while s2.time + 0.5 * s2.options.dt < end {
         s2.step()?;
         s3.step()?;
+        after_step(s2, s3);
         let (e2, e3) = (s2.energies(), s3.energies());
         for (a, b) in [(e2.kinetic, e3.kinetic), (e2.strain, e3.strain)] {
             let scale = (e2.kinetic + e2.strain) * width;
