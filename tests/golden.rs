@@ -114,6 +114,5 @@ golden_case!(
     spheres_3d,
     block_3d,
     extrusion_2d_3d,
-    cracks_2d_3d,
     cracked_spheres_3d
 );

@@ -43,15 +43,11 @@ use crate::report::plot::{LegendPosition, PlotSpec, Series};
 use crate::scene::Scene;
 use crate::scene3d::{Scene3, Solid};
 use crate::simulation::Simulation;
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 use anyhow::{bail, Context};
 use std::collections::HashMap;
 
-pub const DCB_2D: &str = include_str!("../../../verification/cracks_2d_3d_dcb_2d.toml");
-pub const DCB_3D: &str = include_str!("../../../verification/cracks_2d_3d_dcb_3d.toml");
-pub const DISKS_2D: &str = include_str!("../../../verification/cracks_2d_3d_disks_2d.toml");
-pub const DISKS_3D: &str = include_str!("../../../verification/cracks_2d_3d_disks_3d.toml");
-pub const SPHERES: &str = include_str!("../../../verification/cracked_spheres_3d.toml");
 
 /// Width (z extent) of an extruded scene: every body must span the same z range.
 fn extrusion_width(s: &Scene3) -> anyhow::Result<f64> {
@@ -178,11 +174,11 @@ pub fn run_2d_3d(variant: Variant) -> anyhow::Result<CaseOutput> {
         Variant::Full => (120.0, 45.0),
     };
     let mut out = CaseOutput::default();
-    let dcb2 = Scene::from_toml(DCB_2D, "verification/cracks_2d_3d_dcb_2d.toml")?;
-    let dcb3 = Scene3::from_toml(DCB_3D, "verification/cracks_2d_3d_dcb_3d.toml", None)?;
+    let dcb2 = SceneFile::new("cracks_2d_3d_dcb_2d.toml").load()?;
+    let dcb3 = SceneFile::new("cracks_2d_3d_dcb_3d.toml").load3()?;
     compare_cracked(&mut out, "dcb", &dcb2, &dcb3, dcb_end)?;
-    let disks2 = Scene::from_toml(DISKS_2D, "verification/cracks_2d_3d_disks_2d.toml")?;
-    let disks3 = Scene3::from_toml(DISKS_3D, "verification/cracks_2d_3d_disks_3d.toml", None)?;
+    let disks2 = SceneFile::new("cracks_2d_3d_disks_2d.toml").load()?;
+    let disks3 = SceneFile::new("cracks_2d_3d_disks_3d.toml").load3()?;
     compare_cracked(&mut out, "disks", &disks2, &disks3, disks_end)?;
     Ok(out)
 }
@@ -378,7 +374,7 @@ fn spheres_touch(s: &Simulation<D3>) -> bool {
 /// Case `cracked_spheres_3d`.
 pub fn run_spheres(variant: Variant) -> anyhow::Result<CaseOutput> {
     let _ = variant; // one resolution: the coarse scene is the point (see the manifest)
-    let scene = Scene3::from_toml(SPHERES, "verification/cracked_spheres_3d.toml", None)?;
+    let scene = SceneFile::new("cracked_spheres_3d.toml").load3()?;
     let h = scene.grid.cell[0];
     let r = run_cracked_spheres(&scene)?;
     let mut out = CaseOutput::default();
