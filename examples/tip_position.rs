@@ -11,8 +11,7 @@
 //! `cargo run --release --example tip_position [h]` (default h = 1 mm; ~3 s per run).
 
 use cramp::fracture::jintegral::{CodMethod, TipEnd};
-use cramp::scene::Scene;
-use cramp::verify::cases::plates::{plate, PlateKind};
+use cramp::verify::cases::plates::PlateKind;
 
 fn main() -> anyhow::Result<()> {
     let h: f64 = std::env::args().nth(1).map_or(Ok(1.0), |s| s.parse())?;
@@ -22,16 +21,15 @@ fn main() -> anyhow::Result<()> {
         let a = 6.0 + f * h;
         let mut row = Vec::new();
         for mid_cell in [false, true] {
-            let mut text = plate(h, 20.0, 20.0, a, false, 0.25, 60.0, 0.6, 0.0);
+            let mut file = PlateKind::Sent.scene_file(h, a, 0.0);
             if mid_cell {
                 // The grid half a cell lower: y = 0 (the crack) between node rows; the
                 // body's edges y = ±20 then lie mid-cell too, and the 2×2 particles still
                 // fill it exactly.
                 let y0 = -20.0 - 2.0 * h;
-                text = text.replacen(&format!("origin = [{}, {y0}]", -2.0 * h), &format!("origin = [{}, {}]", -2.0 * h, y0 - 0.5 * h), 1);
-                text = text.replacen(&format!("size = [{}, {}]", 20.0 + 4.0 * h, 40.0 + 4.0 * h), &format!("size = [{}, {}]", 20.0 + 4.0 * h, 41.0 + 4.0 * h), 1);
+                file = file.set("grid.origin", format!("[{}, {}]", -2.0 * h, y0 - 0.5 * h)).set("grid.size", format!("[{}, {}]", 20.0 + 4.0 * h, 41.0 + 4.0 * h));
             }
-            let scene = Scene::from_toml(&text, "tip_position")?;
+            let scene = file.load()?;
             let mut sim = scene.build()?;
             sim.run_until(scene.solver.end_time, |_| {})?;
             for n in [2, 3, 4] {

@@ -286,8 +286,16 @@ pub trait Space: Copy + Clone + Debug + Default + PartialEq + Send + Sync + 'sta
     type MassLanes: Lanes;
     /// Lanes of a vector (DIM).
     type VecLanes: Lanes;
-    /// Lanes of a general tensor (DIM²).
+    /// Lanes of a general tensor: component (a, b) in lane a·[`Space::TENSOR_ROW`] + b.
     type TensorLanes: Lanes;
+    /// Lanes per tensor row: DIM, or more when padding makes each row one whole vector
+    /// register (3D: rows of 4, so every term is a broadcast times a 4-wide vector, with
+    /// no shuffles; the pad lanes are never read).
+    const TENSOR_ROW: usize;
+    /// One term's tensor lanes before its components are written: 0, and 1.0 in the pad
+    /// lanes (a sum of ones certifies at once, so the pads never send a gather to the
+    /// slow certificate or the exact sum).
+    const TENSOR_TERM: Self::TensorLanes;
     /// Lanes of a particle's velocity and acceleration increments (2·DIM).
     type IncLanes: Lanes;
 
@@ -322,6 +330,8 @@ impl Space for D2 {
     type MassLanes = [f64; 3];
     type VecLanes = [f64; 2];
     type TensorLanes = [f64; 4];
+    const TENSOR_ROW: usize = 2;
+    const TENSOR_TERM: [f64; 4] = [0.0; 4];
     type IncLanes = [f64; 4];
 
     #[inline(always)]
@@ -351,7 +361,9 @@ impl Space for D3 {
     type Grid = Grid3;
     type MassLanes = [f64; 4];
     type VecLanes = [f64; 3];
-    type TensorLanes = [f64; 9];
+    type TensorLanes = [f64; 12];
+    const TENSOR_ROW: usize = 4;
+    const TENSOR_TERM: [f64; 12] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
     type IncLanes = [f64; 6];
 
     #[inline(always)]

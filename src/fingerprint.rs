@@ -46,8 +46,52 @@ impl Fnv1a {
     }
 }
 
+/// Where a simulation's scene came from, for `cramp verify --export`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSource {
+    /// The scene file in `verification/` and the `--set` overrides applied to it; `None`
+    /// when the scene was built or changed in Rust (then `text` is the serialized scene).
+    pub file: Option<String>,
+    pub overrides: Vec<String>,
+    /// The scene as TOML with the overrides applied: what `cramp run` reads.
+    pub text: String,
+}
+
+/// One simulation a recording saw: its fingerprint when dropped, the scene it was built
+/// from (None if it was not built from a scene, e.g. a clone changed in Rust), whether it
+/// ran checked, and where it stopped.
+#[derive(Clone, Debug)]
+pub struct Recorded {
+    pub fingerprint: u64,
+    pub scene: Option<SceneSource>,
+    pub checked: bool,
+    /// Steps begun (a step that failed a check counts) and the time reached.
+    pub steps: u64,
+    pub time: f64,
+    pub dt: f64,
+}
+
+impl Recorded {
+    /// Whether every step begun was completed (time advanced by it): a step that fails
+    /// mid-way leaves `steps` one ahead of the time.
+    pub fn last_step_completed(&self) -> bool {
+        ((self.time / self.dt) - self.steps as f64).abs() < 0.5
+    }
+}
+
+#[derive(Default)]
+struct State {
+    recorded: Vec<Recorded>,
+    /// Scenes read from files (serialized scene → source), see [`note_loaded`].
+    loaded: Vec<(String, SceneSource)>,
+    /// Live simulations built from a scene, keyed by the address of their particle-id
+    /// array (a heap buffer that never moves or reallocates after the build: particles
+    /// are only permuted in place), so the key follows the simulation when it is moved.
+    built: Vec<(usize, SceneSource)>,
+}
+
 thread_local! {
-    static RECORDER: RefCell<Option<Vec<u64>>> = const { RefCell::new(None) };
+    static RECORDER: RefCell<Option<State>> = const { RefCell::new(None) };
 }
 
 /// While alive, collects the fingerprint of every simulation dropped on this thread.
@@ -56,13 +100,13 @@ pub struct Recorder(());
 impl Recorder {
     /// Start recording on this thread (replacing an unfinished recording).
     pub fn start() -> Recorder {
-        RECORDER.with(|r| *r.borrow_mut() = Some(Vec::new()));
+        RECORDER.with(|r| *r.borrow_mut() = Some(State::default()));
         Recorder(())
     }
 
-    /// Stop recording and return the fingerprints in the order the simulations were dropped.
-    pub fn finish(self) -> Vec<u64> {
-        RECORDER.with(|r| r.borrow_mut().take().unwrap_or_default())
+    /// Stop recording and return the simulations in the order they were dropped.
+    pub fn finish(self) -> Vec<Recorded> {
+        RECORDER.with(|r| r.borrow_mut().take().map(|s| s.recorded).unwrap_or_default())
     }
 }
 
@@ -72,14 +116,53 @@ impl Drop for Recorder {
     }
 }
 
+fn key<S: Dimension>(sim: &Simulation<S>) -> usize {
+    sim.particles.id.as_ptr() as usize
+}
+
+/// A scene was read from a file with overrides (`verify::scene_file`): a simulation
+/// built from a scene that serializes to `serialized` came from `source`.
+pub fn note_loaded(serialized: String, source: SceneSource) {
+    RECORDER.with(|r| {
+        if let Some(s) = r.borrow_mut().as_mut() {
+            s.loaded.push((serialized, source));
+        }
+    });
+}
+
+/// Called when a scene has built a simulation: remember the scene (its serialization,
+/// computed only while recording) so the export can write it.
+pub(crate) fn on_build<S: Dimension>(sim: &Simulation<S>, serialized: impl FnOnce() -> Option<String>) {
+    if !RECORDER.with(|r| r.borrow().is_some()) || sim.particles.id.is_empty() {
+        return;
+    }
+    let Some(text) = serialized() else { return };
+    RECORDER.with(|r| {
+        if let Some(s) = r.borrow_mut().as_mut() {
+            let source = s
+                .loaded
+                .iter()
+                .rev()
+                .find(|(t, _)| *t == text)
+                .map(|(_, src)| src.clone())
+                .unwrap_or(SceneSource { file: None, overrides: Vec::new(), text });
+            let k = key(sim);
+            s.built.retain(|(b, _)| *b != k);
+            s.built.push((k, source));
+        }
+    });
+}
+
 /// Called when a simulation is dropped: record its fingerprint if a recorder is open.
 pub(crate) fn on_drop<S: Dimension>(sim: &Simulation<S>) {
     let active = RECORDER.with(|r| r.borrow().is_some());
     if active {
         let f = fingerprint(sim);
+        let k = key(sim);
         RECORDER.with(|r| {
-            if let Some(v) = r.borrow_mut().as_mut() {
-                v.push(f)
+            if let Some(s) = r.borrow_mut().as_mut() {
+                let scene = s.built.iter().position(|(b, _)| *b == k && !sim.particles.id.is_empty()).map(|i| s.built.remove(i).1);
+                s.recorded.push(Recorded { fingerprint: f, scene, checked: sim.options.checked, steps: sim.step_count, time: sim.time, dt: sim.options.dt });
             }
         });
     }

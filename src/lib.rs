@@ -18,7 +18,7 @@
 //! * [`fracture`] — J-integral, K, growth criteria.
 //! * [`fea`] — the static Q4 finite-element solver used for comparison.
 //! * [`scene`] — TOML scene input and validation (2D); [`scene3d`] — 3D scenes, and the
-//!   dimension of a scene file; [`stl`] — closed STL surfaces for 3D bodies.
+//!   dimension of a scene file; [`scene_override`] — `--set PATH=VALUE` overrides; [`stl`] — closed STL surfaces for 3D bodies.
 //! * [`budget`] — the memory a scene needs, checked before it is built.
 //! * [`output`] — history CSV, summary JSON, VTK snapshots.
 //! * [`report`] — plots and the report index.
@@ -40,6 +40,7 @@ pub mod particles;
 pub mod report;
 pub mod scene;
 pub mod scene3d;
+pub mod scene_override;
 pub mod shape;
 pub mod simd;
 pub mod simulation;

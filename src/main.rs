@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 use cramp::output::{prepare_out_dir, run_scene, RunOptions, RunStatus};
 use cramp::scene::{Scene, DEFAULT_SCENE};
 use cramp::scene3d::{AnyScene, Scene3};
+use cramp::scene_override::Override;
 use cramp::verify::{self, compare, Variant};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -44,6 +45,10 @@ enum Command {
         /// files only) instead of refusing to run.
         #[arg(long)]
         force: bool,
+        /// Override a scene field, PATH=VALUE with a dotted path and a TOML value
+        /// (`--set grid.cell=[0.5,0.5] --set cracks.0.contact=none`); repeatable. See docs/scene.md.
+        #[arg(long = "set", value_name = "PATH=VALUE")]
+        set: Vec<String>,
     },
     /// Run the verification cases: a table on stdout, reports/index.md with plots,
     /// reports/results.json; exit status 1 if any case fails.
@@ -57,6 +62,11 @@ enum Command {
         /// List the cases with their titles and exit.
         #[arg(long)]
         list: bool,
+        /// Run the cases and write every scene they ran, overrides applied, into DIR
+        /// (DIR/<case>/NN_<file>__<variant>.toml and DIR/index.csv), so that `cramp run`
+        /// (or another code) runs exactly the same inputs. See docs/compare.md.
+        #[arg(long, value_name = "DIR")]
+        export: Option<PathBuf>,
         /// Cases to run (default: every case of the suite).
         cases: Vec<String>,
     },
@@ -77,8 +87,8 @@ enum Command {
     /// Run the embedded demo scene (two colliding disks) into out/demo/ (replacing an
     /// earlier demo run there).
     Demo,
-    /// Solve a scene statically with the Q4 FEA: fea.vtk, fea_gauss.vtk, fea_nodes.csv,
-    /// probe CSVs and fea_summary.json (J, K per crack tip) in --out.
+    /// Solve a scene statically: Q4 elements (2D) or hex8 (3D scene); fea.vtk, fea_gauss.vtk,
+    /// fea_nodes.csv, probe CSVs and fea_summary.json (J, K per crack tip in 2D) in --out.
     Fea {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -89,6 +99,9 @@ enum Command {
         /// files only) instead of refusing to run.
         #[arg(long)]
         force: bool,
+        /// Override a scene field, PATH=VALUE (as for `cramp run`); repeatable.
+        #[arg(long = "set", value_name = "PATH=VALUE")]
+        set: Vec<String>,
     },
 }
 
@@ -121,14 +134,17 @@ const MAX_THREADS: u32 = 1024;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Some(Command::Run { scene, out, unchecked, threads, force }) => set_threads(threads).and_then(|()| run(scene, out, unchecked, force)),
-        Some(Command::Fea { scene, out, force }) => fea(scene, out, force).map(|()| ExitCode::SUCCESS),
+        Some(Command::Run { scene, out, unchecked, threads, force, set }) => set_threads(threads).and_then(|()| run(scene, out, unchecked, force, &set)),
+        Some(Command::Fea { scene, out, force, set }) => fea(scene, out, force, &set).map(|()| ExitCode::SUCCESS),
         Some(Command::Demo) => run_demo(),
-        Some(Command::Verify { quick, out, list, cases }) => {
+        Some(Command::Verify { quick, out, list, export, cases }) => {
+            let variant = if quick { Variant::Quick } else { Variant::Full };
             if list {
                 list_cases()
+            } else if let Some(dir) = export {
+                export_scenes(variant, &dir, &cases)
             } else {
-                run_verify(if quick { Variant::Quick } else { Variant::Full }, &out, &cases)
+                run_verify(variant, &out, &cases)
             }
         }
         Some(Command::Compare { run_a, run_b, rtol, atol }) => match compare::compare_runs(&run_a, &run_b, compare::Tolerance { rtol, atol }) {
@@ -162,6 +178,21 @@ fn list_cases() -> anyhow::Result<ExitCode> {
         let suite = if c.map(|c| c.quick.is_some()).unwrap_or(false) { "quick+full" } else { "full only " };
         outln!("{name:<18} {suite}  {}", c.map(|c| c.title.as_str()).unwrap_or("(no manifest entry)"));
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Run the cases and write every scene they ran into `dir`.
+fn export_scenes(variant: Variant, dir: &Path, names: &[String]) -> anyhow::Result<ExitCode> {
+    let cases = verify::select(names, variant)?;
+    let mut results = Vec::new();
+    for case in &cases {
+        eprint!("{:<18} ... ", case.name);
+        let r = verify::run_case(case, variant);
+        eprintln!("{} simulation(s) ({:.1} s)", r.simulations.len(), r.wall_s);
+        results.push(r);
+    }
+    let written = verify::scene_file::export(dir, &results)?;
+    outln!("{} scene file(s) in {} (index: {})", written.len(), dir.display(), dir.join("index.csv").display());
     Ok(ExitCode::SUCCESS)
 }
 
@@ -209,24 +240,30 @@ fn set_threads(threads: Option<u32>) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool, force: bool) -> anyhow::Result<ExitCode> {
+/// Read a scene file with `--set` overrides.
+fn read_scene(path: &Path, set: &[String]) -> anyhow::Result<AnyScene> {
+    let overrides = set.iter().map(|s| Override::parse(s)).collect::<Result<Vec<_>, _>>()?;
+    Ok(cramp::scene_override::scene_file_with(path, &overrides)?)
+}
+
+fn run(scene_path: PathBuf, out: Option<PathBuf>, unchecked: bool, force: bool, set: &[String]) -> anyhow::Result<ExitCode> {
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(stem));
-    match AnyScene::from_file(&scene_path)? {
+    match read_scene(&scene_path, set)? {
         AnyScene::D2(scene) => execute(&scene, out, unchecked, force),
         AnyScene::D3(scene) => execute_3d(&scene, out, unchecked, force),
     }
 }
 
-fn fea(scene_path: PathBuf, out: Option<PathBuf>, force: bool) -> anyhow::Result<()> {
-    let scene = match AnyScene::from_file(&scene_path)? {
-        AnyScene::D2(scene) => scene,
-        AnyScene::D3(_) => anyhow::bail!("`cramp fea` solves 2D scenes only; {} is a 3D scene (grid.cell has 3 components). The 3D FEA is not built yet (issue 18)", scene_path.display()),
-    };
+fn fea(scene_path: PathBuf, out: Option<PathBuf>, force: bool, set: &[String]) -> anyhow::Result<()> {
+    let scene = read_scene(&scene_path, set)?;
     let stem = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{stem}-fea")));
     prepare_out_dir(&out, force)?;
-    out!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text());
+    match scene {
+        AnyScene::D2(scene) => out!("{}", cramp::fea::run::run_fea(&scene, Some(&out))?.text()),
+        AnyScene::D3(scene) => out!("{}", cramp::fea::run3::run_fea_3d(&scene, Some(&out))?.text()),
+    }
     Ok(())
 }
 

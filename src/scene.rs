@@ -28,6 +28,9 @@ pub enum SceneError {
     Parse { path: String, message: String },
     #[error("scene field `{field}`: {message}")]
     Invalid { field: String, message: String },
+    /// A bad `--set PATH=VALUE` ([`crate::scene_override`]).
+    #[error("`--set {arg}`: {message}")]
+    Override { arg: String, message: String },
 }
 
 fn invalid(field: impl Into<String>, message: impl Into<String>) -> SceneError {
@@ -447,6 +450,48 @@ fn finite(field: &str, x: f64) -> Result<(), SceneError> {
 }
 
 /// Every component of a point or vector finite; the error names the component.
+/// Checks of one line probe `probes[i]` (2D or 3D: `from`, `to`, `lo`, `hi` have the
+/// scene's number of components): a file-name-safe name not used by an earlier probe
+/// (`before`), finite end points inside the grid [lo, hi] (to 1e-9 of the cell `h`),
+/// distinct ends, 2 to 100000 points.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn validate_probe(
+    i: usize,
+    name: &str,
+    before: &[&str],
+    from: &[f64],
+    to: &[f64],
+    points: usize,
+    lo: &[f64],
+    hi: &[f64],
+    h: f64,
+) -> Result<(), SceneError> {
+    let f = |n: &str| format!("probes[{i}].{n}");
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+        return Err(invalid(f("name"), format!("must be non-empty letters, digits, '_' or '-' (it names the file probe_<name>.csv), got '{name}'")));
+    }
+    if before.contains(&name) {
+        return Err(invalid(f("name"), format!("duplicate probe name '{name}'")));
+    }
+    let box_text = (0..lo.len()).map(|c| format!("[{}, {}]", lo[c], hi[c])).collect::<Vec<_>>().join(" × ");
+    for (key, x) in [("from", from), ("to", to)] {
+        for (c, v) in x.iter().enumerate() {
+            finite(&format!("{}[{c}]", f(key)), *v)?;
+        }
+        let tol = 1e-9 * h;
+        if (0..x.len()).any(|c| x[c] < lo[c] - tol || x[c] > hi[c] + tol) {
+            return Err(invalid(f(key), format!("{x:?} lies outside the grid {box_text}")));
+        }
+    }
+    if from == to {
+        return Err(invalid(f("to"), format!("equals `from` {from:?}: a probe line needs two different end points")));
+    }
+    if !(2..=100_000).contains(&points) {
+        return Err(invalid(f("points"), format!("must be 2 to 100000 (both ends are sampled), got {points}")));
+    }
+    Ok(())
+}
+
 fn finite_all(field: &str, xs: &[f64]) -> Result<(), SceneError> {
     xs.iter().enumerate().try_for_each(|(c, &x)| finite(&format!("{field}[{c}]"), x))
 }
@@ -727,27 +772,8 @@ impl Scene {
             }
         }
         for (i, p) in self.probes.iter().enumerate() {
-            let f = |n: &str| format!("probes[{i}].{n}");
-            if p.name.is_empty() || !p.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
-                return Err(invalid(f("name"), format!("must be non-empty letters, digits, '_' or '-' (it names the file probe_<name>.csv), got '{}'", p.name)));
-            }
-            if self.probes[..i].iter().any(|o| o.name == p.name) {
-                return Err(invalid(f("name"), format!("duplicate probe name '{}'", p.name)));
-            }
-            for (key, x) in [("from", p.from), ("to", p.to)] {
-                finite(&format!("{}[0]", f(key)), x[0])?;
-                finite(&format!("{}[1]", f(key)), x[1])?;
-                let tol = 1e-9 * (g.cell[0].min(g.cell[1]));
-                if x[0] < lo.x - tol || x[1] < lo.y - tol || x[0] > hi.x + tol || x[1] > hi.y + tol {
-                    return Err(invalid(f(key), format!("{x:?} lies outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
-                }
-            }
-            if p.from == p.to {
-                return Err(invalid(f("to"), format!("equals `from` {:?}: a probe line needs two different end points", p.from)));
-            }
-            if !(2..=100_000).contains(&p.points) {
-                return Err(invalid(f("points"), format!("must be 2 to 100000 (both ends are sampled), got {}", p.points)));
-            }
+            let before: Vec<&str> = self.probes[..i].iter().map(|o| o.name.as_str()).collect();
+            validate_probe(i, &p.name, &before, &p.from, &p.to, p.points, &[lo.x, lo.y], &[hi.x, hi.y], g.cell[0].min(g.cell[1]))?;
         }
         let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
         let mats: Vec<(f64, f64)> = self.materials.iter().map(|m| (m.e, m.rho)).collect();
@@ -895,6 +921,7 @@ impl Scene {
         let mut sim = Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options);
         sim.growth = self.growth(&sim);
         self.check_cracks_against_particles(&sim)?;
+        crate::fingerprint::on_build(&sim, || toml::to_string(self).ok());
         Ok(sim)
     }
 

@@ -54,6 +54,21 @@ pub struct Scene3 {
     /// The directory of the scene file, for relative STL paths (not a scene field).
     #[serde(skip)]
     pub base_dir: Option<PathBuf>,
+    /// Line probes: stresses sampled along segments (written by `cramp fea`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<ProbeSpec3>,
+}
+
+/// A line probe: `points` equally spaced samples from `from` to `to` (both included).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec3 {
+    /// Name, used in the file name `probe_<name>.csv`: letters, digits, `_` and `-`.
+    pub name: String,
+    pub from: [f64; 3],
+    pub to: [f64; 3],
+    /// Number of sample points, both ends included (2 to 100000).
+    pub points: usize,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -328,9 +343,15 @@ impl Solid {
             Solid::Box { min, max } => (v3(*min), v3(*max)),
             Solid::Sphere { center, radius } => (v3(*center) - Vector3::repeat(*radius), v3(*center) + Vector3::repeat(*radius)),
             Solid::Cylinder { from, to, radius } | Solid::Tube { from, to, radius, .. } => {
-                // The end discs lie within radius of their centres in every direction.
+                // The end discs reach radius·√(1 − d_c²) from their centres along axis c, d
+                // the unit axis (0 along an axis-aligned cylinder's own axis); radius in
+                // every direction if the axis has no length.
                 let (a, b) = (v3(*from), v3(*to));
-                (a.inf(&b) - Vector3::repeat(*radius), a.sup(&b) + Vector3::repeat(*radius))
+                let r = match (b - a).try_normalize(0.0) {
+                    Some(d) => Vector3::from_fn(|c, _| radius * (1.0 - d[c] * d[c]).max(0.0).sqrt()),
+                    None => Vector3::repeat(*radius),
+                };
+                (a.inf(&b) - r, a.sup(&b) + r)
             }
             Solid::Extrusion { points, axis, from, to } => {
                 let a = axis.index();
@@ -379,7 +400,7 @@ fn radial(x: &Vector3, from: &[f64; 3], to: &[f64; 3]) -> Option<f64> {
 }
 
 impl Selection3 {
-    fn tolerance(&self, h: f64) -> f64 {
+    pub(crate) fn tolerance(&self, h: f64) -> f64 {
         match self {
             Selection3::Box { .. } => 1e-9 * h,
             Selection3::Plane { tolerance, .. } => tolerance.unwrap_or(0.25 * h),
@@ -387,7 +408,7 @@ impl Selection3 {
         }
     }
 
-    fn contains(&self, x: &Vector3, tol: f64) -> bool {
+    pub(crate) fn contains(&self, x: &Vector3, tol: f64) -> bool {
         match self {
             Selection3::Box { min, max } => (0..3).all(|c| x[c] >= min[c] - tol && x[c] <= max[c] + tol),
             Selection3::Plane { point, normal, .. } => {
@@ -572,6 +593,12 @@ impl Scene3 {
                 return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive and finite, got {}", l.ramp)));
             }
         }
+        let (lo, hi) = (self.grid.origin, std::array::from_fn::<f64, 3, _>(|c| self.grid.origin[c] + self.grid.size[c]));
+        for (i, p) in self.probes.iter().enumerate() {
+            let before: Vec<&str> = self.probes[..i].iter().map(|o| o.name.as_str()).collect();
+            let h = self.grid.cell.iter().fold(f64::INFINITY, |m, &c| m.min(c));
+            crate::scene::validate_probe(i, &p.name, &before, &p.from, &p.to, p.points, &lo, &hi, h)?;
+        }
         let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
         let mats: Vec<(f64, f64)> = self.materials.iter().map(|m| (m.e, m.rho)).collect();
         crate::scene::validate_time_step(&self.solver, self.time_step(), &speeds, &mats)
@@ -604,6 +631,12 @@ impl Scene3 {
     /// scales with the material, not the grid), resolve loads and boundary conditions,
     /// and assemble the simulation.
     pub fn build(&self) -> Result<Simulation<D3>, SceneError> {
+        let sim = self.build_simulation()?;
+        crate::fingerprint::on_build(&sim, || toml::to_string(self).ok());
+        Ok(sim)
+    }
+
+    fn build_simulation(&self) -> Result<Simulation<D3>, SceneError> {
         let grid = self.grid();
         let mats = self.materials();
         let n = self.solver.particles_per_cell;

@@ -207,6 +207,14 @@ impl<S: Space> Pairs<S> {
         }
     }
 
+    /// Pair indices of the active node at position `a` of the ascending active list
+    /// (`nodes.active[a]`): the gathers run over the active nodes in order, so they index
+    /// `start` directly instead of looking the node up in `slot`.
+    #[inline]
+    pub fn of_active(&self, a: usize) -> &[u32] {
+        &self.items[self.start[a] as usize..self.start[a + 1] as usize]
+    }
+
     /// Pair indices of particle `p`.
     #[inline]
     pub fn of_particle(&self, p: usize) -> std::ops::Range<usize> {

@@ -8,7 +8,8 @@
 //!
 //! Speed (issue 6), without changing a bit:
 //! * the sums are computed with [`FastSum`], which certifies correct rounding, and redone
-//!   with [`ExactSums`] in the rare case it cannot (see `fast_or_exact` and `exact.rs`);
+//!   with [`ExactSum`] in the rare case it cannot — only the lanes it cannot certify
+//!   (see `fast_or_exact`, and `Rerun` in `exact.rs`);
 //! * per-node and per-particle work runs in parallel with rayon: each node's or
 //!   particle's sums are independent, results are collected in index order into buffers
 //!   kept across steps ([`Scratch`]), and stored serially;
@@ -186,10 +187,11 @@ impl<S: Dimension> Simulation<S> {
         this.nodes
             .active
             .par_iter()
+            .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|&node| match (with_cracks, this.is_split(node)) {
-                (false, _) | (true, false) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, false, false>(this, node), this.node_mass::<Fast, false, false>(node)), || this.node_mass::<Exact, false, false>(node)),
-                (true, true) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, true, true>(this, node), this.node_mass::<Fast, true, true>(node)), || this.node_mass::<Exact, true, true>(node)),
+            .map(|(a, &node)| match (with_cracks, this.is_split(node)) {
+                (false, _) | (true, false) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, false, false>(this, a), this.node_mass::<Fast, false, false>(a)), || this.node_mass::<Exact, false, false>(a)),
+                (true, true) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, true, true>(this, a), this.node_mass::<Fast, true, true>(a)), || this.node_mass::<Exact, true, true>(a)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -400,10 +402,11 @@ impl<S: Dimension> Simulation<S> {
         this.nodes
             .active
             .par_iter()
+            .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|&node| match this.is_split(node) {
-                false => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, false>(this, node, has_ext, has_body), this.node_forces::<Fast, false>(node, has_ext, has_body)), || this.node_forces::<Exact, false>(node, has_ext, has_body)),
-                true => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, true>(this, node, has_ext, has_body), this.node_forces::<Fast, true>(node, has_ext, has_body)), || this.node_forces::<Exact, true>(node, has_ext, has_body)),
+            .map(|(a, &node)| match this.is_split(node) {
+                false => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, false>(this, a, has_ext, has_body), this.node_forces::<Fast, false>(a, has_ext, has_body)), || this.node_forces::<Exact, false>(a, has_ext, has_body)),
+                true => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, true>(this, a, has_ext, has_body), this.node_forces::<Fast, true>(a, has_ext, has_body)), || this.node_forces::<Exact, true>(a, has_ext, has_body)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -552,10 +555,11 @@ impl<S: Dimension> Simulation<S> {
         this.nodes
             .active
             .par_iter()
+            .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|&node| match this.is_split(node) {
-                false => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, false>(this, node), this.node_momentum::<Fast, false>(node)), || this.node_momentum::<Exact, false>(node)),
-                true => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, true>(this, node), this.node_momentum::<Fast, true>(node)), || this.node_momentum::<Exact, true>(node)),
+            .map(|(a, &node)| match this.is_split(node) {
+                false => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, false>(this, a), this.node_momentum::<Fast, false>(a)), || this.node_momentum::<Exact, false>(a)),
+                true => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, true>(this, a), this.node_momentum::<Fast, true>(a)), || this.node_momentum::<Exact, true>(a)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -681,7 +685,8 @@ impl<S: Dimension> Simulation<S> {
 /// crack-free variant, where every pair is in field 0 (no field look-ups, no volume sums);
 /// it also serves the nodes that no crack splits in a cracked scene. The quantities summed
 /// together per pair are the lanes of one accumulator (1 + DIM for mass and momentum, DIM
-/// for forces, DIM² for the velocity gradient, 2·DIM for the particle increments).
+/// for forces, DIM² for the velocity gradient, 2·DIM for the particle increments). The
+/// node gathers take the node's position `a` in the ascending list `nodes.active`.
 impl<S: Dimension> Simulation<S> {
     /// May the pairs of `node` be in fields other than 0? Only if the scene has cracks and
     /// the line-crossing test of Task 1 found a crack between the node and one of its
@@ -707,12 +712,12 @@ impl<S: Dimension> Simulation<S> {
     /// nodes a crack splits, the only ones where contact reads the nodal volume (NaN
     /// elsewhere: not computed).
     #[inline(always)]
-    fn node_mass<K: SumKind, const FIELDS: bool, const VOLUME: bool>(&self, node: u32) -> Option<NodeMass<S::Vector>> {
+    fn node_mass<K: SumKind, const FIELDS: bool, const VOLUME: bool>(&self, a: usize) -> Option<NodeMass<S::Vector>> {
         let (p, pairs) = (&self.particles, &self.pairs);
         let mut acc: [K::Of<S::MassLanes>; MAX_FIELDS] = Default::default();
         let mut vol = K::Of::<[f64; 1]>::default();
         let mut present = 0u8;
-        for &item in pairs.of_node(node as usize) {
+        for &item in pairs.of_active(a) {
             let item = item as usize;
             let pp = item / S::MAX_NODES;
             let f = if FIELDS { pairs.field[item] as usize } else { 0 };
@@ -745,12 +750,13 @@ impl<S: Dimension> Simulation<S> {
 
     /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
     #[inline(always)]
-    fn node_forces<K: SumKind, const CRACKS: bool>(&self, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
+    fn node_forces<K: SumKind, const CRACKS: bool>(&self, a: usize, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
         let (p, pairs) = (&self.particles, &self.pairs);
+        let node = self.nodes.active[a];
         let mut int: [K::Of<S::VecLanes>; MAX_FIELDS] = Default::default();
         let mut ext: [K::Of<S::VecLanes>; MAX_FIELDS] = Default::default();
         let mut skipped_zeros = [false; MAX_FIELDS];
-        for &item in pairs.of_node(node as usize) {
+        for &item in pairs.of_active(a) {
             let item = item as usize;
             let pp = item / S::MAX_NODES;
             let f = if CRACKS { pairs.field[item] as usize } else { 0 };
@@ -797,10 +803,11 @@ impl<S: Dimension> Simulation<S> {
 
     /// Task 6c at one node: momentum per field from the new particle velocities (eq. 31).
     #[inline(always)]
-    fn node_momentum<K: SumKind, const CRACKS: bool>(&self, node: u32) -> Option<[S::Vector; MAX_FIELDS]> {
+    fn node_momentum<K: SumKind, const CRACKS: bool>(&self, a: usize) -> Option<[S::Vector; MAX_FIELDS]> {
         let (p, pairs) = (&self.particles, &self.pairs);
+        let node = self.nodes.active[a];
         let mut acc: [K::Of<S::VecLanes>; MAX_FIELDS] = Default::default();
-        for &item in pairs.of_node(node as usize) {
+        for &item in pairs.of_active(a) {
             let item = item as usize;
             let pp = item / S::MAX_NODES;
             let f = if CRACKS { pairs.field[item] as usize } else { 0 };
@@ -832,16 +839,16 @@ impl<S: Dimension> Simulation<S> {
         for ((&f, &node), g) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.g[k]) {
             let f = if CRACKS { f as usize } else { 0 };
             let v = nodes.fields[f].vel[node as usize];
-            let mut lanes = S::TensorLanes::default();
+            let mut lanes = S::TENSOR_TERM;
             for a in 0..S::DIM {
                 for b in 0..S::DIM {
-                    lanes[a * S::DIM + b] = v[a] * g[b];
+                    lanes[a * S::TENSOR_ROW + b] = v[a] * g[b];
                 }
             }
             l.add_lanes(lanes);
         }
         let t = l.certified_lanes()?;
-        Some(S::Tensor::from_fn(|a, b| t[a * S::DIM + b]))
+        Some(S::Tensor::from_fn(|a, b| t[a * S::TENSOR_ROW + b]))
     }
 
     /// Task 5 at particle `i` (eq. 30): (Σ S v_i, Σ S a_i) over its pairs, the velocity
@@ -866,7 +873,8 @@ impl<S: Dimension> Simulation<S> {
     }
 }
 
-/// The fast sums if they certify their results, else the exact ones (which always do).
+/// The fast sums if they certify their results, else the gather again with [`Exact`]
+/// accumulators (`exact::Rerun`: exact sums for the lanes the fast sums cannot certify).
 /// Both give the correctly rounded sums, so the bits do not depend on which was used.
 #[inline(always)]
 fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
@@ -882,18 +890,18 @@ mod avx2 {
     use super::*;
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_mass<S: Dimension, const FIELDS: bool, const VOLUME: bool>(s: &Simulation<S>, node: u32) -> Option<NodeMass<S::Vector>> {
-        s.node_mass::<Fast, FIELDS, VOLUME>(node)
+    pub(super) fn node_mass<S: Dimension, const FIELDS: bool, const VOLUME: bool>(s: &Simulation<S>, a: usize) -> Option<NodeMass<S::Vector>> {
+        s.node_mass::<Fast, FIELDS, VOLUME>(a)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_forces<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, node: u32, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
-        s.node_forces::<Fast, CRACKS>(node, has_ext, has_body)
+    pub(super) fn node_forces<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, a: usize, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
+        s.node_forces::<Fast, CRACKS>(a, has_ext, has_body)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_momentum<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, node: u32) -> Option<[S::Vector; MAX_FIELDS]> {
-        s.node_momentum::<Fast, CRACKS>(node)
+    pub(super) fn node_momentum<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, a: usize) -> Option<[S::Vector; MAX_FIELDS]> {
+        s.node_momentum::<Fast, CRACKS>(a)
     }
 
     #[target_feature(enable = "avx2")]

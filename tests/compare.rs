@@ -170,7 +170,7 @@ fn structural_mismatches_are_clear_errors() {
 #[test]
 fn crack_polylines_are_listed_not_compared() {
     let root = scratch("cracks");
-    let mut scene = Scene::from_toml(cramp::verify::cases::crack_patch::FULL, "crack_patch_full").unwrap();
+    let mut scene = Scene::from_toml(include_str!("../verification/crack_patch_full.toml"), "crack_patch_full").unwrap();
     scene.solver.end_time = 3.0;
     scene.output.archive_interval = Some(1.5);
     for d in ["a", "b"] {
@@ -247,7 +247,7 @@ fn absurd_snapshot_sizes_are_errors_not_allocations() {
 #[test]
 fn text_columns_compare_as_text() {
     let root = scratch("text");
-    let mut scene = Scene::from_toml(cramp::verify::cases::crack_patch::FULL, "crack_patch_full").unwrap();
+    let mut scene = Scene::from_toml(include_str!("../verification/crack_patch_full.toml"), "crack_patch_full").unwrap();
     scene.cracks[0].fracture = Some(toml::from_str("tips = \"end\"").unwrap());
     scene.solver.end_time = 1.0;
     for d in ["a", "b"] {

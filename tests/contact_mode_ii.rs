@@ -8,16 +8,15 @@
 //! approaching faces a little apart are stopped and separating ones are not).
 
 use cramp::output::{run_scene, RunOptions};
-use cramp::scene::Scene;
 use cramp::verify::cases::fracture::{beam, split_contour, WHOLE_BEAM};
 
 fn ratio(detection: &str) -> f64 {
     let h = 2.0;
-    let text = beam(h, 1.0, 1.0, "frictionless", split_contour(h), WHOLE_BEAM)
-        .replace("tips = \"end\",", "tips = \"end\", cod = \"fit\",")
-        .replace("contact = \"frictionless\"", &format!("contact = \"frictionless\"\ndetection = \"{detection}\""));
-    assert!(text.contains("detection"));
-    let scene = Scene::from_toml(&text, "enf with contact").unwrap();
+    let scene = beam(h, 1.0, 1.0, "frictionless", split_contour(h), WHOLE_BEAM)
+        .set("cracks.0.fracture.cod", "\"fit\"")
+        .set("cracks.0.detection", format!("\"{detection}\""))
+        .load()
+        .unwrap();
     let r = run_scene(&scene, &RunOptions { checked: Some(false), ..Default::default() }).unwrap();
     let t = r.tips.last().unwrap();
     println!("{detection}: K_I/K_II = {:+.5}, δ_I = {:+.3e}, δ_II = {:+.3e}, K_II = {:.4}", t.k1 / t.k2, t.delta_i, t.delta_ii, t.k2);

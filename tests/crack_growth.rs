@@ -14,15 +14,14 @@
 
 use cramp::fracture::growth::{is_simple_polyline, TipStatus};
 use cramp::fracture::jintegral::TipEnd;
-use cramp::scene::Scene;
-use cramp::verify::cases::growth::{depth_history, initiation, mean_difference, mode_ii_kink, path, path_shape_difference, records, run_growth, three_point_bend, tip_asymmetry};
+use cramp::verify::cases::growth::{depth_history, initiation, mean_difference, mode_ii_kink, path, path_shape_difference, records, run_growth, run_growth_file, three_point_bend, tip_asymmetry};
 
 #[test]
 fn pmma_beam_crack_grows_straight_and_converges() {
     let end = 0.3;
     let mut hist = Vec::new();
     for h in [4.0, 2.0] {
-        let (r, wall) = run_growth(&three_point_bend(h, 0.0, "min_strain_energy", end), true).unwrap();
+        let (r, wall) = run_growth_file(&three_point_bend(h, 0.0, "min_strain_energy", end), true).unwrap();
         let recs = records(&r, TipEnd::End);
         let drift = recs.iter().map(|x| x.fracture.tip.x.abs()).fold(0.0, f64::max);
         let a = depth_history(&recs);
@@ -45,7 +44,7 @@ fn pmma_beam_crack_grows_straight_and_converges() {
 fn off_centre_impact_turns_the_crack_toward_the_impact_point() {
     let mut paths = Vec::new();
     for crit in ["max_hoop_stress", "min_strain_energy"] {
-        let (r, _) = run_growth(&three_point_bend(4.0, 0.1, crit, 0.21), true).unwrap();
+        let (r, _) = run_growth_file(&three_point_bend(4.0, 0.1, crit, 0.21), true).unwrap();
         let p = path(&r);
         let tip = *p.last().unwrap();
         println!("{crit}: tip at ({:.2}, {:.2})", tip.0, tip.1);
@@ -138,7 +137,7 @@ fn a_crack_reaching_the_edge_stops_and_the_body_splits() {
 
 #[test]
 fn growth_is_identical_after_shuffling_particles() {
-    let scene = Scene::from_toml(&three_point_bend(4.0, 0.1, "max_hoop_stress", 0.17), "tpb").unwrap();
+    let scene = three_point_bend(4.0, 0.1, "max_hoop_stress", 0.17).load().unwrap();
     let mut a = scene.build().unwrap();
     let mut b = a.clone();
     let n = b.particles.len();

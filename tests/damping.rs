@@ -9,12 +9,11 @@
 //! (FLIP's null space) and leaves them in place.
 
 use cramp::output::{run_scene, RunOptions};
-use cramp::scene::Scene;
 use cramp::verify::cases::fracture::{beam, Settle};
 
 fn run(on: &'static str) -> (f64, f64, f64) {
-    let text = beam(2.0, 1.0, 0.0, "none", 3, Settle { damping: 5.0, damping_on: on, end_time: 4.0 });
-    let r = run_scene(&Scene::from_toml(&text, "mixed beam").unwrap(), &RunOptions::default()).unwrap();
+    let scene = beam(2.0, 1.0, 0.0, "none", 3, Settle { damping: 5.0, damping_on: on, end_time: 4.0 }).load().unwrap();
+    let r = run_scene(&scene, &RunOptions::default()).unwrap();
     let e = r.sim.energies();
     (e.kinetic, e.strain, e.total())
 }

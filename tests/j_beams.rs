@@ -42,11 +42,10 @@
 
 use cramp::fracture::jintegral::{CodMethod, TipEnd, TipResult};
 use cramp::output::{run_scene, RunOptions, RunResult};
-use cramp::scene::Scene;
 use cramp::verify::cases::fracture::{a_of, beam, k_dcb, k_enf, split_beam, split_contour, Settle, ARMS, E_BEAM as E, WHOLE_BEAM};
 
 fn run(h: f64, p_top: f64, p_bottom: f64, contact: &str, contour: usize, settle: Settle) -> RunResult {
-    let scene = Scene::from_toml(&beam(h, p_top, p_bottom, contact, contour, settle), "split beam").unwrap();
+    let scene = beam(h, p_top, p_bottom, contact, contour, settle).load().unwrap();
     run_scene(&scene, &RunOptions::default()).unwrap()
 }
 
@@ -124,8 +123,8 @@ fn mixed_mode_k_is_the_superposition_of_modes_i_and_ii_at_2mm() {
 fn next_to_tip_cod_misplaces_the_mixed_mode_split_that_the_fit_gets() {
     let h = 2.0;
     // The default COD is the paper's next-to-tip value.
-    let scene = beam(h, 1.0, 0.0, "none", split_contour(h), WHOLE_BEAM);
-    let r = run_scene(&Scene::from_toml(&scene, "mixed beam").unwrap(), &RunOptions::default()).unwrap();
+    let scene = beam(h, 1.0, 0.0, "none", split_contour(h), WHOLE_BEAM).load().unwrap();
+    let r = run_scene(&scene, &RunOptions::default()).unwrap();
     let t = r.tips.last().unwrap();
     let k2_ref = 0.5 * k_enf(1.0, a_of(h));
     let e2 = (t.k2.abs() - k2_ref) / k2_ref;

@@ -161,7 +161,7 @@ fn poisson_ratio_one_half_in_3d() {
 #[test]
 fn a_2d_crack_polyline_in_a_3d_scene() {
     let t = format!("{BASE}\n[[cracks]]\npoints = [[0.3, 0.4, 0.5], [0.6, 0.4, 0.5]]\n");
-    expect_message(&t, &["points"]);
+    expect_message(&t, &["points", "surface"]);
 }
 
 // ---- 3D cracks (issue 15, verification 6) ----------------------------------------------
@@ -462,9 +462,10 @@ fn binary_reports_bad_3d_scenes_without_panicking() {
         ("run", "two_components", edit("velocity = [0.0, 0.0, 0.0]", "velocity = [1.0, 2.0]"), vec!["bodies[0].velocity", "has 2 components"]),
         ("run", "state", edit("rho = 1.0", "rho = 1.0\nstate = \"plane_stress\""), vec!["materials[0].state"]),
         ("run", "closed_crack", with_crack("surface = { mesh = { vertices = [[0.3, 0.3, 0.3], [0.6, 0.3, 0.3], [0.3, 0.45, 0.3], [0.3, 0.3, 0.6]], triangles = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] } }"), vec!["cracks[0].surface.mesh", "closed surface"]),
+        ("run", "cracks", format!("{BASE}\n[[cracks]]\npoints = [[0.3, 0.4, 0.5], [0.6, 0.4, 0.5]]\n"), vec!["points", "surface"]),
         ("run", "missing_stl", stl_scene("missing.stl"), vec!["bodies[0].shape.stl.file", "missing.stl", "cannot open"]),
         ("run", "outside", with_shape("{ sphere = { center = [0.5, 0.4, 0.9], radius = 0.2 } }"), vec!["bodies[0].shape", "outside the grid"]),
-        ("fea", "fea_3d", BASE.to_string(), vec!["`cramp fea` solves 2D scenes only", "3D scene"]),
+        ("fea", "fea_3d_free", BASE.to_string(), vec!["scene field `boundary`", "not held against rigid motion", "translation in x"]),
     ];
     for (command, name, text, needles) in &cases {
         let (status, stderr, dir) = run_binary(command, text, name);

@@ -239,6 +239,29 @@ pub fn first_particle_on(points: &[Vector], xs: &[Vector], tol: f64) -> Option<(
     })
 }
 
+/// After the field assignment of Task 1 (2D or 3D): the crack that split each node, in
+/// particle order, so a conflict is reported for the same pair as a serial loop would. Two
+/// different cracks at one node: Err((node, [first crack, second crack])).
+pub(crate) fn record_node_cracks<S: crate::simulation::Dimension>(sim: &mut Simulation<S>) -> Result<(), (usize, Vec<usize>)> {
+    let (pairs, scratch) = (&sim.pairs, &sim.scratch);
+    let node_crack = &mut sim.nodes.crack;
+    node_crack.fill(u16::MAX);
+    for i in (0..sim.particles.len()).filter(|&i| scratch.split[i]) {
+        for k in pairs.of_particle(i) {
+            if pairs.field[k] == 0 {
+                continue;
+            }
+            let (node, c) = (pairs.node[k] as usize, scratch.pair_crack[k]);
+            let nc = node_crack[node];
+            if nc != u16::MAX && nc != c {
+                return Err((node, vec![nc as usize, c as usize]));
+            }
+            node_crack[node] = c;
+        }
+    }
+    Ok(())
+}
+
 /// Velocity field index for a crossing result (eq. 2): 0 none, 1 above, 2 below.
 #[inline]
 fn field_of(side: Side) -> u8 {
@@ -367,22 +390,7 @@ impl Simulation {
                 split
             })
             .collect_into_vec(&mut scratch.split);
-        // The crack that split each node; two different cracks at one node stop the run.
-        let node_crack = &mut self.nodes.crack;
-        node_crack.fill(u16::MAX);
-        for i in (0..p.len()).filter(|&i| scratch.split[i]) {
-            for k in pairs.of_particle(i) {
-                if pairs.field[k] == 0 {
-                    continue;
-                }
-                let (node, c) = (pairs.node[k] as usize, scratch.pair_crack[k]);
-                let nc = node_crack[node];
-                if nc != u16::MAX && nc != c {
-                    return Err(self.too_many_fields(node, vec![nc as usize, c as usize]));
-                }
-                node_crack[node] = c;
-            }
-        }
+        record_node_cracks(self).map_err(|(node, cracks)| self.too_many_fields(node, cracks))?;
         Ok(())
     }
 

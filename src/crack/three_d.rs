@@ -201,23 +201,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
             split
         })
         .collect_into_vec(&mut scratch.split);
-    // The crack that split each node; two different cracks at one node stop the run.
-    let node_crack = &mut sim.nodes.crack;
-    node_crack.fill(u16::MAX);
-    for i in (0..p.len()).filter(|&i| scratch.split[i]) {
-        for k in pairs.of_particle(i) {
-            if pairs.field[k] == 0 {
-                continue;
-            }
-            let (node, c) = (pairs.node[k] as usize, scratch.pair_crack[k]);
-            let nc = node_crack[node];
-            if nc != u16::MAX && nc != c {
-                return Err(too_many_fields(sim, node, vec![nc as usize, c as usize]));
-            }
-            node_crack[node] = c;
-        }
-    }
-    Ok(())
+    super::record_node_cracks(sim).map_err(|(node, cracks)| too_many_fields(sim, node, cracks))
 }
 
 fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> CheckError {

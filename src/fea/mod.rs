@@ -23,6 +23,14 @@
 //! * [`scene`] — a scene file mapped onto the FEA (mesh, supports, loads, cracks), so one
 //!   scene runs both ways; [`run`] — `cramp fea`: solve, J/K per tip, files.
 //!
+//! In 3D (a [`crate::scene3d::Scene3`]) the same pipeline runs with trilinear hexahedra:
+//!
+//! * [`hex8`] — element (2×2×2 Gauss, D from the MPM's `update_3d`); [`mesh3`] — the grid
+//!   mesh of the 3D material cells; [`solve3`] — model, assembly into the shared reduced
+//!   system (`solve::assemble_reduced`), stresses; [`crack3`] — planar cracks on grid
+//!   planes (node duplication) and J, K_I, K_II, K_III per front node (3D EDI);
+//!   [`scene3`] — the scene mapping; [`output3`], [`run3`] — `cramp fea` files.
+//!
 //! Units are whatever the caller uses consistently (the tests use mm, N, MPa).
 //!
 //! References used throughout:
@@ -39,13 +47,20 @@
 
 pub mod compare;
 pub mod crack;
+pub mod crack3;
 pub mod element;
+pub mod hex8;
 pub mod jintegral;
 pub mod mesh;
+pub mod mesh3;
 pub mod output;
+pub mod output3;
 pub mod run;
+pub mod run3;
 pub mod scene;
+pub mod scene3;
 pub mod solve;
+pub mod solve3;
 
 pub use crack::{CrackTip, MeshedCrack};
 pub use jintegral::{j_integral, JResult};

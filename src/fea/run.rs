@@ -145,27 +145,11 @@ pub fn run_fea(scene: &Scene, out_dir: Option<&Path>) -> anyhow::Result<FeaRepor
         let from = Vector::new(spec.from[0], spec.from[1]);
         let to = Vector::new(spec.to[0], spec.to[1]);
         let samples = probe_line(mesh, sol, from, to, spec.points);
-        let file = format!("probe_{}.csv", spec.name);
-        if let Some(dir) = out_dir {
-            let mut text = String::from("s,x,y,sxx,syy,sxy,szz\n");
-            for s in &samples {
-                let dist = (s.position - from).norm();
-                let _ = write!(text, "{:e},{:e},{:e}", dist, s.position.x, s.position.y);
-                match s.stress {
-                    Some(st) => {
-                        let _ = writeln!(text, ",{:e},{:e},{:e},{:e}", st.xx, st.yy, st.xy, st.zz);
-                    }
-                    None => text.push_str(",,,,\n"),
-                }
-            }
-            write_file(&dir.join(&file), text.as_bytes())?;
-        }
-        probes.push(ProbeSummary {
-            name: spec.name.clone(),
-            file,
-            points: samples.len(),
-            outside_mesh: samples.iter().filter(|s| s.stress.is_none()).count(),
+        let rows = samples.iter().map(|s| {
+            let p = s.position;
+            ([(p - from).norm(), p.x, p.y], s.stress.map(|st| [st.xx, st.yy, st.xy, st.zz]))
         });
+        probes.push(write_probe(out_dir, &spec.name, "s,x,y,sxx,syy,sxy,szz", rows)?);
     }
     let summary = FeaSummary {
         title: scene.title.clone(),
@@ -235,7 +219,38 @@ pub fn run_fea(scene: &Scene, out_dir: Option<&Path>) -> anyhow::Result<FeaRepor
     Ok(FeaReport { mapping, analysis, summary, out_dir: out_dir.map(Path::to_path_buf) })
 }
 
-fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+/// `probe_<name>.csv` in `dir` (if given): the header, then per sample its leading
+/// columns (distance from the start, coordinates) and its stress components, or empty
+/// stress fields outside the mesh. Returns the probe's summary. Shared by 2D and 3D.
+pub(super) fn write_probe<const A: usize, const B: usize>(
+    dir: Option<&Path>,
+    name: &str,
+    header: &str,
+    rows: impl Iterator<Item = ([f64; A], Option<[f64; B]>)>,
+) -> anyhow::Result<ProbeSummary> {
+    let file = format!("probe_{name}.csv");
+    let (mut text, mut points, mut outside_mesh) = (format!("{header}\n"), 0, 0);
+    for (lead, stress) in rows {
+        points += 1;
+        text.push_str(&lead.iter().map(|v| format!("{v:e}")).collect::<Vec<_>>().join(","));
+        match stress {
+            Some(st) => st.iter().for_each(|v| {
+                let _ = write!(text, ",{v:e}");
+            }),
+            None => {
+                outside_mesh += 1;
+                text.push_str(&",".repeat(B));
+            }
+        }
+        text.push('\n');
+    }
+    if let Some(dir) = dir {
+        write_file(&dir.join(&file), text.as_bytes())?;
+    }
+    Ok(ProbeSummary { name: name.to_string(), file, points, outside_mesh })
+}
+
+pub(super) fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     let mut f = std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
     f.write_all(bytes).with_context(|| format!("cannot write {}", path.display()))
 }

@@ -263,19 +263,15 @@ fn meshed_polyline(grid: &Grid, c: usize, pts: &[Vector]) -> Result<Vec<Vector>>
 /// elements the rigid modes are the whole null space of K, so this is exactly the
 /// condition for K_ff to be positive definite (Cook et al. 2002, rigid-body modes).
 fn check_rigid_modes(fixed: &[(usize, usize)], x: &[Vector], centre: Vector, size: f64, body: usize) -> Result<()> {
-    let mut gram = nalgebra::Matrix3::<f64>::zeros();
-    for &(a, c) in fixed {
+    let rows = fixed.iter().map(|&(a, c)| {
         let d = (x[a] - centre) / size;
-        let row = if c == 0 { nalgebra::Vector3::new(1.0, 0.0, -d.y) } else { nalgebra::Vector3::new(0.0, 1.0, d.x) };
-        gram += row * row.transpose();
-    }
-    let eig = gram.symmetric_eigen();
-    let (k, min) =
-        eig.eigenvalues.iter().enumerate().fold((0, f64::INFINITY), |m, (k, &v)| if v < m.1 { (k, v) } else { m });
-    if min > 1e-9 * eig.eigenvalues.iter().fold(0.0, |m: f64, &v| m.max(v)) {
-        return Ok(());
-    }
-    let v = eig.eigenvectors.column(k);
+        if c == 0 {
+            [1.0, 0.0, -d.y]
+        } else {
+            [0.0, 1.0, d.x]
+        }
+    });
+    let Some(v) = free_rigid_mode(rows) else { return Ok(()) };
     let (t, omega) = (Vector::new(v[0], v[1]), v[2] / size);
     let motion = if omega.abs() * size < 1e-6 * t.norm() {
         if t.y.abs() < 1e-6 * t.norm() {
@@ -300,6 +296,134 @@ fn check_rigid_modes(fixed: &[(usize, usize)], x: &[Vector], centre: Vector, siz
             fixed.len()
         ),
     ))
+}
+
+/// The body owning every cell (`usize::MAX`: no particle), from the (cell, body) of every
+/// particle: the body with most particles in the cell, ties to the body listed first. Also
+/// counts the cells holding fewer than `ppc` particles and those holding several bodies.
+/// Shared by the Q4 and hex8 scene mappings.
+pub(super) fn cell_owners(
+    n_cells: usize,
+    n_bodies: usize,
+    ppc: usize,
+    particle_cells: impl Iterator<Item = (usize, usize)>,
+) -> (Vec<usize>, usize, usize) {
+    let mut counts: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for (cell, body) in particle_cells {
+        counts.entry(cell).or_insert_with(|| vec![0; n_bodies])[body] += 1;
+    }
+    let mut cell_body = vec![usize::MAX; n_cells];
+    let (mut partial_cells, mut mixed_cells) = (0, 0);
+    for (&cell, c) in &counts {
+        let total: usize = c.iter().sum();
+        // max_by_key keeps the last maximum; iterate in reverse so ties go to the first body.
+        let body = (0..n_bodies).rev().max_by_key(|&b| c[b]).unwrap_or(0);
+        cell_body[cell] = body;
+        if total < ppc {
+            partial_cells += 1;
+        }
+        if c.iter().filter(|&&v| v > 0).count() > 1 {
+            mixed_cells += 1;
+        }
+    }
+    (cell_body, partial_cells, mixed_cells)
+}
+
+/// Notes on what the static FEA ignores: initial velocities (`moving[k]` for body k) and
+/// load ramps (`ramps[k]` of load k). Shared by the Q4 and hex8 mappings.
+pub(super) fn motion_notes(notes: &mut Vec<String>, moving: impl Iterator<Item = bool>, ramps: impl Iterator<Item = f64>) {
+    for (k, _) in moving.enumerate().filter(|(_, m)| *m) {
+        notes.push(format!("bodies[{k}]: the initial velocity is ignored by the static FEA"));
+    }
+    for (k, ramp) in ramps.enumerate().filter(|(_, r)| *r > 0.0) {
+        notes.push(format!("loads[{k}].ramp = {ramp}: the full load is applied (static)"));
+    }
+}
+
+/// Notes on cells meshed in full although partly filled, and on cells shared by bodies
+/// ([`cell_owners`]).
+pub(super) fn cell_notes(notes: &mut Vec<String>, partial_cells: usize, ppc: usize, mixed_cells: usize) {
+    if partial_cells > 0 {
+        notes.push(format!(
+            "{partial_cells} cell(s) hold fewer than {ppc} particles and are meshed in full: the FEA body is the union of \
+             the cells that hold particles"
+        ));
+    }
+    if mixed_cells > 0 {
+        notes.push(format!(
+            "{mixed_cells} cell(s) hold particles of several bodies; each element takes the body owning most of them"
+        ));
+    }
+}
+
+/// The eigenvector of the smallest eigenvalue of the Gram matrix Σ rowᵀ row of the rigid
+/// modes restricted to the prescribed DOFs (one row per prescribed DOF), if that
+/// eigenvalue is zero relative to the largest (1e-9): a rigid motion the supports leave
+/// free. For a connected mesh of fully integrated elements the rigid modes are the whole
+/// null space of K, so `None` is exactly the condition for K_ff to be positive definite.
+pub(super) fn free_rigid_mode<const M: usize>(rows: impl Iterator<Item = [f64; M]>) -> Option<nalgebra::DVector<f64>> {
+    let mut gram = nalgebra::DMatrix::<f64>::zeros(M, M);
+    for row in rows {
+        let row = nalgebra::DVector::from_column_slice(&row);
+        gram += &row * row.transpose();
+    }
+    let eig = gram.symmetric_eigen();
+    let (k, min) =
+        eig.eigenvalues.iter().enumerate().fold((0, f64::INFINITY), |m, (k, &v)| if v < m.1 { (k, v) } else { m });
+    if min > 1e-9 * eig.eigenvalues.iter().fold(0.0, |m: f64, &v| m.max(v)) {
+        return None;
+    }
+    Some(eig.eigenvectors.column(k).into_owned())
+}
+
+/// The force on every particle that carries one: its share of a `[[loads]]` force plus
+/// m_p b (Nairn 2003 eq. 28), as (particle, force), zero forces left out. Shared by 2D and 3D.
+pub(super) fn particle_forces<S: crate::simulation::Dimension>(sim: &crate::simulation::Simulation<S>) -> Vec<(usize, S::Vector)> {
+    let p = &sim.particles;
+    (0..p.len())
+        .filter_map(|k| {
+            let mut f = sim.body_force[p.body[k] as usize] * p.mass[k];
+            if p.load[k] != NO_LOAD {
+                f += sim.loads[p.load[k] as usize].force_per_particle;
+            }
+            (f != <S::Vector as crate::dim::VectorOps>::zeros()).then_some((k, f))
+        })
+        .collect()
+}
+
+/// The connected pieces of a mesh: elements joined through a shared side (`sides`: the
+/// local node lists of an element's edges in 2D, faces in 3D; a shared corner or, in 3D,
+/// edge is a hinge and does not join). Keyed by the first element of each piece, with
+/// the piece's nodes. Union–find in element order, so the result is deterministic.
+pub(super) fn connected_pieces<const N: usize, const K: usize>(
+    elements: &[[usize; N]],
+    sides: &[[usize; K]],
+) -> BTreeMap<usize, BTreeSet<usize>> {
+    let mut parent: Vec<usize> = (0..elements.len()).collect();
+    let mut side_owner: HashMap<[usize; K], usize> = HashMap::new();
+    for (e, conn) in elements.iter().enumerate() {
+        for side in sides {
+            let mut key = side.map(|k| conn[k]);
+            key.sort_unstable();
+            match side_owner.entry(key) {
+                Entry::Occupied(o) => {
+                    let (ra, rb) = (root(&mut parent, e), root(&mut parent, *o.get()));
+                    if ra != rb {
+                        parent[ra.max(rb)] = ra.min(rb);
+                    }
+                }
+                Entry::Vacant(v) => {
+                    v.insert(e);
+                }
+            }
+        }
+    }
+    let mut pieces: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+    for (e, conn) in elements.iter().enumerate() {
+        let r = root(&mut parent, e);
+        pieces.entry(r).or_default().extend(conn.iter().copied());
+    }
+    pieces
 }
 
 /// Union–find root with path halving.
@@ -336,30 +460,18 @@ impl SceneFea {
         let n_bodies = scene.bodies.len();
 
         // Elements: cells holding particles; body by majority.
-        let mut counts: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
         let cell_of = |x: Vector| -> usize {
             let i = (((x.x - grid.origin.x) / grid.h.x).floor() as usize).min(grid.nx - 1);
             let j = (((x.y - grid.origin.y) / grid.h.y).floor() as usize).min(grid.ny - 1);
             grid.cell_index(i, j)
         };
-        for k in 0..p.len() {
-            counts.entry(cell_of(p.x[k])).or_insert_with(|| vec![0; n_bodies])[p.body[k] as usize] += 1;
-        }
         let ppc = scene.solver.particles_per_cell * scene.solver.particles_per_cell;
-        let mut cell_body = vec![usize::MAX; grid.nx * grid.ny];
-        let (mut partial_cells, mut mixed_cells) = (0, 0);
-        for (&cell, c) in &counts {
-            let total: usize = c.iter().sum();
-            // max_by_key keeps the last maximum; iterate in reverse so ties go to the first body.
-            let body = (0..n_bodies).rev().max_by_key(|&b| c[b]).unwrap_or(0);
-            cell_body[cell] = body;
-            if total < ppc {
-                partial_cells += 1;
-            }
-            if c.iter().filter(|&&v| v > 0).count() > 1 {
-                mixed_cells += 1;
-            }
-        }
+        let (cell_body, partial_cells, mixed_cells) = cell_owners(
+            grid.nx * grid.ny,
+            n_bodies,
+            ppc,
+            (0..p.len()).map(|k| (cell_of(p.x[k]), p.body[k] as usize)),
+        );
         let mut grid_mesh = GridMesh::from_grid(grid, |i, j, _| cell_body[grid.cell_index(i, j)] != usize::MAX)?;
         let element_body: Vec<usize> =
             grid_mesh.element_cell.iter().map(|&[i, j]| cell_body[grid.cell_index(i, j)]).collect();
@@ -429,14 +541,7 @@ impl SceneFea {
         // Loads and body forces, particle by particle.
         let mut n_loaded_particles = 0;
         let mut load_resultant = Vector::zeros();
-        for k in 0..p.len() {
-            let mut f = sim.body_force[p.body[k] as usize] * p.mass[k];
-            if p.load[k] != NO_LOAD {
-                f += sim.loads[p.load[k] as usize].force_per_particle;
-            }
-            if f == Vector::zeros() {
-                continue;
-            }
+        for (k, f) in particle_forces(&sim) {
             n_loaded_particles += 1;
             let cell = cell_of(p.x[k]);
             let (i, j) = (cell % grid.nx, cell / grid.nx);
@@ -454,30 +559,7 @@ impl SceneFea {
         // Pieces (elements joined through shared edges; a corner-only contact is a hinge):
         // supported ones must be held against every rigid motion, unsupported ones must be
         // in equilibrium and get the minimal support.
-        let n_el = mesh.elements.len();
-        let mut parent: Vec<usize> = (0..n_el).collect();
-        let mut edge_owner: HashMap<(usize, usize), usize> = HashMap::new();
-        for (e, conn) in mesh.elements.iter().enumerate() {
-            for k in 0..4 {
-                let (a, b) = (conn[k], conn[(k + 1) % 4]);
-                match edge_owner.entry((a.min(b), a.max(b))) {
-                    Entry::Occupied(o) => {
-                        let (ra, rb) = (root(&mut parent, e), root(&mut parent, *o.get()));
-                        if ra != rb {
-                            parent[ra.max(rb)] = ra.min(rb);
-                        }
-                    }
-                    Entry::Vacant(v) => {
-                        v.insert(e);
-                    }
-                }
-            }
-        }
-        let mut pieces: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
-        for (e, conn) in mesh.elements.iter().enumerate() {
-            let r = root(&mut parent, e);
-            pieces.entry(r).or_default().extend(conn.iter().copied());
-        }
+        let pieces = connected_pieces(&mesh.elements, &[[0, 1], [1, 2], [2, 3], [3, 0]]);
         let mut auto_supports = Vec::new();
         let mut free_pieces = Vec::new();
         let forces = bcs.forces().to_vec();
@@ -540,16 +622,11 @@ impl SceneFea {
         }
 
         // Notes on the rest.
-        for (k, b) in scene.bodies.iter().enumerate() {
-            if b.velocity != [0.0, 0.0] || b.velocity_sine.is_some() {
-                notes.push(format!("bodies[{k}]: the initial velocity is ignored by the static FEA"));
-            }
-        }
-        for (k, l) in scene.loads.iter().enumerate() {
-            if l.ramp > 0.0 {
-                notes.push(format!("loads[{k}].ramp = {}: the full load is applied (static)", l.ramp));
-            }
-        }
+        motion_notes(
+            &mut notes,
+            scene.bodies.iter().map(|b| b.velocity != [0.0, 0.0] || b.velocity_sine.is_some()),
+            scene.loads.iter().map(|l| l.ramp),
+        );
         for (k, c) in scene.cracks.iter().enumerate() {
             if c.contact != crate::scene::ContactSpec::None {
                 notes.push(format!(
@@ -557,17 +634,7 @@ impl SceneFea {
                 ));
             }
         }
-        if partial_cells > 0 {
-            notes.push(format!(
-                "{partial_cells} cell(s) hold fewer than {ppc} particles and are meshed in full: the FEA body is the union of \
-                 the cells that hold particles"
-            ));
-        }
-        if mixed_cells > 0 {
-            notes.push(format!(
-                "{mixed_cells} cell(s) hold particles of several bodies; each element takes the body owning most of them"
-            ));
-        }
+        cell_notes(&mut notes, partial_cells, ppc, mixed_cells);
         Ok(SceneFea {
             grid_mesh,
             groups,
@@ -598,18 +665,8 @@ impl SceneFea {
         let t0 = Instant::now();
         let system = solve::assemble(&model, &self.bcs)?;
         let equations = system.n_equations();
-        let factor = system.factorize().map_err(|e| match e {
-            FeaError::NotPositiveDefinite(m) => FeaError::NotPositiveDefinite(format!(
-                "{m}; check that the scene's [[boundary]] conditions (vx = 0 / vy = 0) fix every piece against \
-                 translation in x and y and rotation"
-            )),
-            other => other,
-        })?;
-        let u_free = factor.solve(&system.rhs);
-        if u_free.iter().any(|v| !v.is_finite()) {
-            return Err(FeaError::NotPositiveDefinite("the solution is not finite".into()));
-        }
-        let mut displacement = system.full_displacements(&u_free);
+        let dofs = system.factorize_and_solve()?;
+        let mut displacement: Vec<Vector> = dofs.chunks_exact(2).map(|u| Vector::new(u[0], u[1])).collect();
         let nodes = &self.grid_mesh.mesh.nodes;
         for piece in &self.free_pieces {
             // Remove the least-squares rigid motion ū + ω e_z × (x − x̄) (equal node weights):

@@ -9,7 +9,7 @@
 use super::element::{self, GAUSS};
 use super::mesh::Mesh;
 use super::{FeaError, Result};
-use crate::dim::{Sym, Vector};
+use crate::dim::{Sym, Sym3, Vector};
 use crate::material::{LinearElastic, PlaneState};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -94,6 +94,37 @@ fn check_properties(material: &LinearElastic, thickness: f64, what: &str) -> Res
     Ok(())
 }
 
+/// Checks shared by the Q4 and the hex8 models: every group's material (and thickness),
+/// a non-empty mesh, and one valid group index per element (or none: all in group 0).
+pub(crate) fn check_groups(groups: &[(LinearElastic, f64)], element_group: &[usize], n_elements: usize) -> Result<()> {
+    if groups.is_empty() {
+        return Err(FeaError::InvalidInput("no material given".into()));
+    }
+    let multi = groups.len() > 1;
+    for (k, (m, t)) in groups.iter().enumerate() {
+        let what = if multi { format!("element group {k}: ") } else { String::new() };
+        check_properties(m, *t, &what)?;
+    }
+    if n_elements == 0 {
+        return Err(FeaError::InvalidInput("the mesh has no elements".into()));
+    }
+    if !element_group.is_empty() && element_group.len() != n_elements {
+        return Err(FeaError::InvalidInput(format!(
+            "{} element groups given for {} elements",
+            element_group.len(),
+            n_elements
+        )));
+    }
+    if let Some(e) = element_group.iter().position(|&g| g >= groups.len()) {
+        return Err(FeaError::InvalidInput(format!(
+            "element {e} is in group {}, but there are {} groups",
+            element_group[e],
+            groups.len()
+        )));
+    }
+    Ok(())
+}
+
 impl<'m> Model<'m> {
     /// One material and thickness for every element. Validates the material, the
     /// thickness and every element (det J > 0 at all Gauss points).
@@ -108,31 +139,7 @@ impl<'m> Model<'m> {
         groups: Vec<(LinearElastic, f64)>,
         element_group: Vec<usize>,
     ) -> Result<Model<'m>> {
-        if groups.is_empty() {
-            return Err(FeaError::InvalidInput("no material given".into()));
-        }
-        let multi = groups.len() > 1;
-        for (k, (m, t)) in groups.iter().enumerate() {
-            let what = if multi { format!("element group {k}: ") } else { String::new() };
-            check_properties(m, *t, &what)?;
-        }
-        if mesh.elements.is_empty() {
-            return Err(FeaError::InvalidInput("the mesh has no elements".into()));
-        }
-        if !element_group.is_empty() && element_group.len() != mesh.elements.len() {
-            return Err(FeaError::InvalidInput(format!(
-                "{} element groups given for {} elements",
-                element_group.len(),
-                mesh.elements.len()
-            )));
-        }
-        if let Some(e) = element_group.iter().position(|&g| g >= groups.len()) {
-            return Err(FeaError::InvalidInput(format!(
-                "element {e} is in group {}, but there are {} groups",
-                element_group[e],
-                groups.len()
-            )));
-        }
+        check_groups(&groups, &element_group, mesh.elements.len())?;
         for e in 0..mesh.elements.len() {
             let x = mesh.element_coords(e);
             for (g, [xi, eta]) in GAUSS.iter().enumerate() {
@@ -165,21 +172,33 @@ impl<'m> Model<'m> {
     }
 }
 
-/// Prescribed displacements and external nodal forces, per DOF (2 per node).
+/// Prescribed displacements and external nodal forces, per DOF (`dim` per node: node `a`
+/// has DOFs `dim·a + c`, c = 0 (x), 1 (y), 2 (z)). Shared by the Q4 (2D) and hex8 (3D) models.
 #[derive(Clone, Debug)]
 pub struct BoundaryConditions {
+    dim: usize,
     prescribed: Vec<Option<f64>>,
     force: Vec<f64>,
 }
 
 impl BoundaryConditions {
-    /// No constraints, no loads.
+    /// No constraints, no loads, for a 2D (Q4) mesh.
     pub fn new(mesh: &Mesh) -> BoundaryConditions {
-        BoundaryConditions { prescribed: vec![None; mesh.n_dofs()], force: vec![0.0; mesh.n_dofs()] }
+        BoundaryConditions::for_nodes(mesh.n_nodes(), 2)
+    }
+
+    /// No constraints, no loads, for `n_nodes` nodes with `dim` DOFs each.
+    pub fn for_nodes(n_nodes: usize, dim: usize) -> BoundaryConditions {
+        BoundaryConditions { dim, prescribed: vec![None; dim * n_nodes], force: vec![0.0; dim * n_nodes] }
+    }
+
+    /// DOFs per node (2 or 3).
+    pub fn dim(&self) -> usize {
+        self.dim
     }
 
     fn check_node(&self, node: usize) -> Result<()> {
-        let n_nodes = self.force.len() / 2;
+        let n_nodes = self.force.len() / self.dim;
         if node < n_nodes {
             Ok(())
         } else {
@@ -187,16 +206,17 @@ impl BoundaryConditions {
         }
     }
 
-    /// Prescribe component `comp` (0 = x, 1 = y) of the displacement of `node`. A later call overrides.
+    /// Prescribe component `comp` (0 = x, 1 = y, 2 = z in 3D) of the displacement of `node`. A later call overrides.
     pub fn prescribe(&mut self, node: usize, comp: usize, value: f64) -> Result<()> {
         self.check_node(node)?;
-        if comp > 1 {
-            return Err(FeaError::InvalidInput(format!("displacement component {comp} (use 0 = x, 1 = y)")));
+        if comp >= self.dim {
+            let names = if self.dim == 2 { "0 = x, 1 = y" } else { "0 = x, 1 = y, 2 = z" };
+            return Err(FeaError::InvalidInput(format!("displacement component {comp} (use {names})")));
         }
         if !value.is_finite() {
             return Err(FeaError::InvalidInput(format!("prescribed value {value} at node {node} is not finite")));
         }
-        self.prescribed[2 * node + comp] = Some(value);
+        self.prescribed[self.dim * node + comp] = Some(value);
         Ok(())
     }
 
@@ -208,12 +228,21 @@ impl BoundaryConditions {
 
     /// Add a point force (total force, not per unit thickness) at `node`.
     pub fn point_load(&mut self, node: usize, f: Vector) -> Result<()> {
+        self.add_load(node, f.as_slice())
+    }
+
+    /// Add a point force with one component per DOF of the node (2 or 3).
+    pub fn add_load(&mut self, node: usize, f: &[f64]) -> Result<()> {
         self.check_node(node)?;
-        if !(f.x.is_finite() && f.y.is_finite()) {
+        if f.len() != self.dim {
+            return Err(FeaError::InvalidInput(format!("a point load at node {node} has {} components, not {}", f.len(), self.dim)));
+        }
+        if f.iter().any(|v| !v.is_finite()) {
             return Err(FeaError::InvalidInput(format!("point load at node {node} is not finite")));
         }
-        self.force[2 * node] += f.x;
-        self.force[2 * node + 1] += f.y;
+        for (c, v) in f.iter().enumerate() {
+            self.force[self.dim * node + c] += v;
+        }
         Ok(())
     }
 
@@ -272,6 +301,8 @@ impl BoundaryConditions {
 
 /// The assembled, reduced linear system K_ff u_f = f_f − K_fp u_p.
 pub struct System {
+    /// DOFs per node (2 or 3).
+    pub dim: usize,
     /// Equation number of each DOF; `usize::MAX` for a prescribed DOF.
     pub eq: Vec<usize>,
     /// Full DOF vector holding the prescribed values (0 at free DOFs).
@@ -285,7 +316,25 @@ pub struct System {
 /// Assemble the reduced system (see the module doc).
 pub fn assemble(model: &Model, bcs: &BoundaryConditions) -> Result<System> {
     let mesh = model.mesh;
-    let n_dofs = mesh.n_dofs();
+    assemble_reduced(bcs, mesh.n_dofs(), mesh.elements.len(), |e| {
+        let props = model.element(e);
+        let ke = element::stiffness(&mesh.element_coords(e), &props.d, props.thickness)
+            .map_err(|(gauss, det_j)| FeaError::BadElement { element: e, gauss, det_j })?;
+        let conn = mesh.elements[e];
+        Ok((std::array::from_fn(|k| 2 * conn[k / 2] + k % 2), ke))
+    })
+}
+
+/// The reduced system K_ff u_f = f_f − K_fp u_p for any element with `N` DOFs (Q4: 8,
+/// hex8: 24): `element(e)` gives the global DOFs and the stiffness of element `e`.
+/// Free DOFs are numbered in DOF order; only the lower triangle of K_ff is kept
+/// (duplicate triplets are summed by faer).
+pub(crate) fn assemble_reduced<const N: usize>(
+    bcs: &BoundaryConditions,
+    n_dofs: usize,
+    n_elements: usize,
+    mut element: impl FnMut(usize) -> Result<([usize; N], SMatrix<f64, N, N>)>,
+) -> Result<System> {
     if bcs.prescribed.len() != n_dofs {
         return Err(FeaError::InvalidInput(format!(
             "boundary conditions are for {} DOFs, the mesh has {n_dofs}",
@@ -308,18 +357,15 @@ pub fn assemble(model: &Model, bcs: &BoundaryConditions) -> Result<System> {
         return Err(FeaError::NoFreeDofs);
     }
     let mut rhs: Vec<f64> = (0..n_dofs).filter(|&d| eq[d] != usize::MAX).map(|d| bcs.force[d]).collect();
-    let mut triplets = Vec::with_capacity(36 * mesh.elements.len());
-    for (e, conn) in mesh.elements.iter().enumerate() {
-        let props = model.element(e);
-        let ke = element::stiffness(&mesh.element_coords(e), &props.d, props.thickness)
-            .map_err(|(gauss, det_j)| FeaError::BadElement { element: e, gauss, det_j })?;
-        let dofs: [usize; 8] = std::array::from_fn(|k| 2 * conn[k / 2] + k % 2);
-        for r in 0..8 {
+    let mut triplets = Vec::with_capacity(N * (N + 1) / 2 * n_elements);
+    for e in 0..n_elements {
+        let (dofs, ke) = element(e)?;
+        for r in 0..N {
             let row = eq[dofs[r]];
             if row == usize::MAX {
                 continue;
             }
-            for c in 0..8 {
+            for c in 0..N {
                 let col = eq[dofs[c]];
                 if col == usize::MAX {
                     rhs[row] -= ke[(r, c)] * u_prescribed[dofs[c]];
@@ -331,7 +377,7 @@ pub fn assemble(model: &Model, bcs: &BoundaryConditions) -> Result<System> {
     }
     let k = SparseColMat::<usize, f64>::try_new_from_triplets(n_eq, n_eq, &triplets)
         .map_err(|e| FeaError::Solver(format!("building the sparse matrix: {e:?}")))?;
-    Ok(System { eq, u_prescribed, k, rhs })
+    Ok(System { dim: bcs.dim, eq, u_prescribed, k, rhs })
 }
 
 /// A sparse Cholesky factorisation of K_ff (fill-reducing ordering chosen by faer).
@@ -355,10 +401,34 @@ impl System {
         Ok(Factorization { llt })
     }
 
-    /// Expand the free-DOF solution into nodal displacement vectors.
+    /// Every DOF's value: the free-DOF solution with the prescribed values filled in.
+    pub fn dof_values(&self, u_free: &[f64]) -> Vec<f64> {
+        (0..self.eq.len()).map(|d| if self.eq[d] == usize::MAX { self.u_prescribed[d] } else { u_free[self.eq[d]] }).collect()
+    }
+
+    /// Expand the free-DOF solution into nodal displacement vectors (2D).
     pub fn full_displacements(&self, u_free: &[f64]) -> Vec<Vector> {
-        let dof = |d: usize| if self.eq[d] == usize::MAX { self.u_prescribed[d] } else { u_free[self.eq[d]] };
-        (0..self.eq.len() / 2).map(|a| Vector::new(dof(2 * a), dof(2 * a + 1))).collect()
+        self.dof_values(u_free).chunks_exact(2).map(|u| Vector::new(u[0], u[1])).collect()
+    }
+
+    /// Factorise and solve, with the messages of a scene run: a matrix that is not
+    /// positive definite names the supports to check, a non-finite solution is refused.
+    /// Returns every DOF's value.
+    pub fn factorize_and_solve(&self) -> Result<Vec<f64>> {
+        let (conds, dofs) =
+            if self.dim == 2 { ("vx = 0 / vy = 0", "x and y") } else { ("vx = 0 / vy = 0 / vz = 0", "x, y and z") };
+        let factor = self.factorize().map_err(|e| match e {
+            FeaError::NotPositiveDefinite(m) => FeaError::NotPositiveDefinite(format!(
+                "{m}; check that the scene's [[boundary]] conditions ({conds}) fix every piece against \
+                 translation in {dofs} and rotation"
+            )),
+            other => other,
+        })?;
+        let u_free = factor.solve(&self.rhs);
+        if u_free.iter().any(|v| !v.is_finite()) {
+            return Err(FeaError::NotPositiveDefinite("the solution is not finite".into()));
+        }
+        Ok(self.dof_values(&u_free))
     }
 }
 
@@ -442,14 +512,60 @@ pub fn postprocess(model: &Model, bcs: &BoundaryConditions, displacement: Vec<Ve
 pub fn nodal_average(mesh: &Mesh, gauss: &[[Sym; 4]]) -> Vec<Sym> {
     let s3 = 3.0f64.sqrt();
     let weights = element::CORNERS.map(|[xi, eta]| element::shape(s3 * xi, s3 * eta));
-    let mut sum = vec![Sym::ZERO; mesh.n_nodes()];
-    let mut count = vec![0u32; mesh.n_nodes()];
-    for (conn, g) in mesh.elements.iter().zip(gauss) {
+    extrapolate_and_average(mesh.n_nodes(), &mesh.elements, gauss, &weights)
+}
+
+/// A tensor that can be averaged (2D [`Sym`], 3D [`Sym3`]).
+pub(crate) trait Averaged: Copy {
+    const ZERO: Self;
+    fn add(&self, b: &Self) -> Self;
+    fn scale(&self, s: f64) -> Self;
+}
+
+impl Averaged for Sym {
+    const ZERO: Sym = Sym::ZERO;
+    fn add(&self, b: &Sym) -> Sym {
+        Sym::add(self, b)
+    }
+    fn scale(&self, s: f64) -> Sym {
+        Sym::scale(self, s)
+    }
+}
+
+impl Averaged for Sym3 {
+    const ZERO: Sym3 = Sym3::ZERO;
+    fn add(&self, b: &Sym3) -> Sym3 {
+        Sym3 {
+            xx: self.xx + b.xx,
+            yy: self.yy + b.yy,
+            zz: self.zz + b.zz,
+            xy: self.xy + b.xy,
+            xz: self.xz + b.xz,
+            yz: self.yz + b.yz,
+        }
+    }
+    fn scale(&self, s: f64) -> Sym3 {
+        Sym3 { xx: self.xx * s, yy: self.yy * s, zz: self.zz * s, xy: self.xy * s, xz: self.xz * s, yz: self.yz * s }
+    }
+}
+
+/// Gauss values extrapolated to the corners of each element (corner k gets
+/// Σ_g `weights[k][g]` value_g), then the plain mean over the elements at each node
+/// (see [`nodal_average`]; the hex8 uses the same rule with its 2×2×2 points).
+pub(crate) fn extrapolate_and_average<T: Averaged, const N: usize>(
+    n_nodes: usize,
+    elements: &[[usize; N]],
+    gauss: &[[T; N]],
+    weights: &[[f64; N]; N],
+) -> Vec<T> {
+    let mut sum = vec![T::ZERO; n_nodes];
+    let mut count = vec![0u32; n_nodes];
+    for (conn, g) in elements.iter().zip(gauss) {
         for (k, &a) in conn.iter().enumerate() {
-            let v = (0..4).fold(Sym::ZERO, |s, q| s.add(&g[q].scale(weights[k][q])));
+            let v = (0..N).fold(T::ZERO, |s, q| s.add(&g[q].scale(weights[k][q])));
             sum[a] = sum[a].add(&v);
             count[a] += 1;
         }
     }
-    sum.iter().zip(&count).map(|(s, &c)| if c > 0 { s.scale(1.0 / c as f64) } else { Sym::ZERO }).collect()
+    sum.iter().zip(&count).map(|(s, &c)| if c > 0 { s.scale(1.0 / c as f64) } else { T::ZERO }).collect()
 }

@@ -36,6 +36,7 @@ pub mod cases;
 pub mod compare;
 pub mod manifest;
 pub mod report;
+pub mod scene_file;
 
 use crate::report::plot::{PlotSpec, Series};
 use anyhow::{anyhow, bail};
@@ -178,6 +179,10 @@ pub struct CaseResult {
     /// ([`crate::fingerprint`]).
     #[serde(skip)]
     pub fingerprints: Vec<u64>,
+    /// Every simulation the case ran, in the same order: its scene (for `cramp verify
+    /// --export`) and whether it ran checked.
+    #[serde(skip)]
+    pub simulations: Vec<crate::fingerprint::Recorded>,
     pub sweep: Vec<SweepPoint>,
     #[serde(skip)]
     pub figures: Vec<Figure>,
@@ -238,7 +243,8 @@ pub fn run_case(case: &Case, variant: Variant) -> CaseResult {
     let start = Instant::now();
     let recorder = crate::fingerprint::Recorder::start();
     let output = (case.run)(variant);
-    let fingerprints = recorder.finish();
+    let recorded = recorder.finish();
+    let fingerprints = recorded.iter().map(|r| r.fingerprint).collect();
     let wall_s = start.elapsed().as_secs_f64();
     let mut result = CaseResult {
         name: case.name.to_string(),
@@ -248,6 +254,7 @@ pub fn run_case(case: &Case, variant: Variant) -> CaseResult {
         errors: Vec::new(),
         rows: Vec::new(),
         fingerprints,
+        simulations: recorded,
         sweep: Vec::new(),
         figures: Vec::new(),
         notes: Vec::new(),

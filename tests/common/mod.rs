@@ -9,7 +9,7 @@ use cramp::verify::{self, Variant};
 /// block's particles ramped over `ramp`, the crack's `contact` law as TOML.
 #[allow(dead_code)]
 pub fn block_on_crack(force: [f64; 2], ramp: f64, end_time: f64, contact: &str) -> String {
-    cramp::verify::cases::cracks::block_on_crack(1.0, force, ramp, end_time, contact)
+    cramp::verify::cases::cracks::block_on_crack(1.0, force, ramp, end_time, contact).to_toml().unwrap()
 }
 
 /// Run a verification case of `verification/cases.toml` through the library (as `cramp

@@ -2,7 +2,7 @@
 //! references §2(c) with verification/references-errata.md) run far past the early-time
 //! window of `chen_early_time`, against the static K_I of the same half-plate scene from
 //! cramp's static Q4 FEA. The scene, Freund's early-time curve and the sampling are those
-//! of [`super::fracture`] ([`chen_scene`], [`run_chen_scene`], [`freund`]).
+//! of [`super::fracture`] ([`chen_file`], [`run_chen_scene`], [`freund`]).
 //!
 //! What the late-time curve must do. With rollers on both lateral edges the uncracked
 //! plate is a 1D bar: the two step waves meet on the crack plane at t₀ = H/c_d and the
@@ -29,9 +29,8 @@
 //! FEA on the same grid 0.0183 mm) without contact. The full variant runs the
 //! frictionless scene too and reports its late-time mean (notes and plot).
 
-use super::fracture::{chen_scene, freund, run_chen_scene, ChenSample, A, E, NU, SIGMA};
+use super::fracture::{chen_file, freund, run_chen_scene, ChenSample, A, E, NU, SIGMA};
 use crate::report::plot::{PlotSpec, Series};
-use crate::scene::{BoundarySpec, ContactSpec, Selection};
 use crate::verify::{CaseOutput, Plot, Variant};
 use std::f64::consts::PI;
 
@@ -65,7 +64,7 @@ pub struct FeaStatic {
     pub wall_s: f64,
 }
 
-/// The scene of [`chen_scene`] solved statically by the Q4 FEA on its own grid at cell
+/// The scene of [`chen_file`] solved statically by the Q4 FEA on its own grid at cell
 /// size `h`. Two changes, neither of which changes the static solution: the crack's tip
 /// is moved from a to a − h/2, because the FEA meshes a crack end at the first grid node
 /// beyond it (the node the MPM leaves whole), so the meshed tip is exactly at a = 2.4 mm
@@ -74,10 +73,10 @@ pub struct FeaStatic {
 /// self-equilibrated, y-symmetric load does not excite (the support's reaction is
 /// round-off; returned).
 pub fn fea_static(h: f64) -> anyhow::Result<FeaStatic> {
-    let mut scene = chen_scene(h, 1.0)?;
-    let n = scene.cracks[0].points.len();
-    scene.cracks[0].points[n - 1] = [A - 0.5 * h, 0.0];
-    scene.boundary.push(BoundarySpec { nodes: Selection::Region { min: [B - 0.25 * h, -0.25 * h], max: [B + 0.25 * h, 0.25 * h] }, vx: None, vy: Some(0.0) });
+    let scene = chen_file(h, 1.0)
+        .set("cracks.0.points.1", format!("[{}, 0.0]", A - 0.5 * h))
+        .set("boundary.2", format!("{{ nodes = {{ region = {{ min = [{}, {}], max = [{}, {}] }} }}, vy = 0.0 }}", B - 0.25 * h, -0.25 * h, B + 0.25 * h, 0.25 * h))
+        .load()?;
     let started = std::time::Instant::now();
     let r = crate::fea::run::run_fea(&scene, None)?;
     let wall_s = started.elapsed().as_secs_f64();
@@ -202,9 +201,10 @@ struct Run {
     wall_s: f64,
 }
 
-fn mpm(h: f64, contact: ContactSpec, name: &'static str, ks: f64) -> anyhow::Result<Run> {
-    let mut scene = chen_scene(h, END)?;
-    scene.cracks[0].contact = contact;
+/// The MPM run at cell size h with the crack's `contact` law ("none", "frictionless").
+fn mpm(h: f64, contact: &'static str, ks: f64) -> anyhow::Result<Run> {
+    let name = contact;
+    let scene = chen_file(h, END).set("cracks.0.contact", format!("\"{contact}\"")).load()?;
     let started = std::time::Instant::now();
     let (samples, cd, t0) = run_chen_scene(&scene, END)?;
     let wall_s = started.elapsed().as_secs_f64();
@@ -261,7 +261,7 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
     // The MPM runs.
     let mut runs = Vec::new();
     for &h in cells {
-        runs.push(mpm(h, ContactSpec::None, "none", ks)?);
+        runs.push(mpm(h, "none", ks)?);
     }
     for r in &runs {
         let l = &r.late;
@@ -280,7 +280,7 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
         du
     ));
     if variant == Variant::Full {
-        let r = mpm(0.25, ContactSpec::Frictionless, "frictionless", ks)?;
+        let r = mpm(0.25, "frictionless", ks)?;
         out.note(format!("Frictionless contact (reported, not checked; see the module doc: the relative-volume detection stops the faces' closing): {}", describe(&r, ks)));
         runs.push(r);
     }

@@ -17,19 +17,19 @@
 
 use super::{scheme_name, SCHEMES};
 use crate::report::plot::{PlotSpec, Series};
-use crate::scene::{Scene, DEFAULT_SCENE};
+use crate::scene::Scene;
 use crate::simulation::Scheme;
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 use anyhow::Context;
 
 /// The demo scene with a scheme, particles per cell and cell size.
 pub fn disks_scene(scheme: Scheme, ppc: usize, cell: f64) -> anyhow::Result<Scene> {
-    let mut s = Scene::from_toml(DEFAULT_SCENE, "verification/demo.toml")?;
-    s.solver.scheme = scheme;
-    s.solver.particles_per_cell = ppc;
-    s.grid.cell = [cell, cell];
-    s.validate()?;
-    Ok(s)
+    SceneFile::new("demo.toml")
+        .set("solver.scheme", super::scheme_name(scheme))
+        .set("solver.particles_per_cell", ppc)
+        .set("grid.cell", format!("[{cell}, {cell}]"))
+        .load()
 }
 
 /// What one run of the disks measured.

@@ -23,12 +23,11 @@
 
 use crate::scene::{Scene, Selection};
 use crate::simulation::Simulation;
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Variant};
 use anyhow::{bail, Context};
 use std::collections::HashMap;
 
-pub const FULL: &str = include_str!("../../../verification/crack_patch_full.toml");
-pub const HALF: &str = include_str!("../../../verification/crack_patch_half.toml");
 
 /// Crack tip x of the scenes.
 const TIP_X: f64 = 50.0;
@@ -38,29 +37,28 @@ const TIP_X: f64 = 50.0;
 /// cell and the node coordinates stay exact in binary, and the half model's symmetry line
 /// starts at the first node beyond the tip.
 pub fn scenes(h: f64, crack: bool) -> anyhow::Result<(Scene, Scene)> {
-    let mut full = Scene::from_toml(FULL, "verification/crack_patch_full.toml")?;
-    let mut half = Scene::from_toml(HALF, "verification/crack_patch_half.toml")?;
+    let (mut full, mut half) = (SceneFile::new("crack_patch_full.toml"), SceneFile::new("crack_patch_half.toml"));
     if !crack {
-        full.cracks.clear();
+        full = full.set("cracks", "[]");
     }
-    if h != full.grid.cell[0] {
+    let file_h = half.clone().load()?.grid.cell[0];
+    if h != file_h {
         // Nodes at x0 + k h with the tip strictly between two of them.
         let x0 = -3.0 - h / 2.0;
-        for s in [&mut full, &mut half] {
-            s.grid.cell = [h, h];
-            s.grid.origin[0] = x0;
-            s.grid.size[0] = 106.0 + h;
-        }
+        let grid = |f: SceneFile| -> anyhow::Result<SceneFile> {
+            let g = f.clone().load()?.grid;
+            Ok(f.set("grid.cell", format!("[{h}, {h}]")).set("grid.origin", format!("[{x0}, {}]", g.origin[1])).set("grid.size", format!("[{}, {}]", 106.0 + h, g.size[1])))
+        };
+        full = grid(full)?;
+        half = grid(half)?;
         let nodes_past_tip = ((TIP_X - x0) / h).floor() + 1.0;
         let first = x0 + nodes_past_tip * h;
-        let Selection::Line { from, .. } = &mut half.boundary[0].nodes else {
+        let Selection::Line { from, .. } = half.clone().load()?.boundary[0].nodes else {
             bail!("the half model's symmetry condition must be a line");
         };
-        from[0] = first;
+        half = half.set("boundary.0.nodes.line.from", format!("[{first}, {}]", from[1]));
     }
-    full.validate()?;
-    half.validate()?;
-    Ok((full, half))
+    Ok((full.load()?, half.load()?))
 }
 
 /// Key a particle by the bits of its initial position.

@@ -17,50 +17,42 @@
 use crate::dim::{SymOps, D3};
 use crate::scene3d::{Scene3, Selection3};
 use crate::simulation::Simulation;
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Variant};
 use anyhow::{bail, Context};
 use std::collections::HashMap;
-
-pub const FULL: &str = include_str!("../../../verification/crack_patch_3d_full.toml");
-pub const HALF: &str = include_str!("../../../verification/crack_patch_3d_half.toml");
 
 /// Crack front x of the scenes.
 const FRONT_X: f64 = 50.0;
 
 /// The full (with or without its crack) and half scenes at cell size `h` (2 mm in the
-/// files), ending at `end`. For other h the grid moves as in the 2D case: nodes at
-/// x0 + k h with the front strictly inside a cell, exact binary coordinates, and the
-/// half model's symmetry nodes from the first node beyond the front.
+/// files), ending at `end`: the scene files with overrides. For other h the grid moves as
+/// in the 2D case: nodes at x0 + k h (and z0 + k h) with the front strictly inside a cell,
+/// exact binary coordinates, and the half model's symmetry nodes from the first node
+/// beyond the front.
 pub fn scenes(h: f64, crack: bool, end: f64) -> anyhow::Result<(Scene3, Scene3)> {
-    let mut full = Scene3::from_toml(FULL, "verification/crack_patch_3d_full.toml", None)?;
-    let mut half = Scene3::from_toml(HALF, "verification/crack_patch_3d_half.toml", None)?;
+    let (mut full, mut half) = (SceneFile::new("crack_patch_3d_full.toml"), SceneFile::new("crack_patch_3d_half.toml"));
     if !crack {
-        full.cracks.clear();
+        full = full.set("cracks", "[]");
     }
-    for s in [&mut full, &mut half] {
-        s.solver.end_time = end;
-    }
-    if h != full.grid.cell[0] {
-        let x0 = -3.0 - h / 2.0;
-        let z0 = -3.0 - h / 2.0;
-        for s in [&mut full, &mut half] {
-            s.grid.cell = [h, h, h];
-            s.grid.origin[0] = x0;
-            s.grid.origin[2] = z0;
-            s.grid.size[0] = 106.0 + h;
-            s.grid.size[2] = 10.0 + h;
-        }
+    full = full.set("solver.end_time", end);
+    half = half.set("solver.end_time", end);
+    let file_h = half.clone().load3()?.grid.cell[0];
+    if h != file_h {
+        let (x0, z0) = (-3.0 - h / 2.0, -3.0 - h / 2.0);
+        let grid = |f: SceneFile| -> anyhow::Result<SceneFile> {
+            let g = f.clone().load3()?.grid;
+            Ok(f.set("grid.cell", format!("[{h}, {h}, {h}]")).set("grid.origin", format!("[{x0}, {}, {z0}]", g.origin[1])).set("grid.size", format!("[{}, {}, {}]", 106.0 + h, g.size[1], 10.0 + h)))
+        };
+        full = grid(full)?;
+        half = grid(half)?;
         let nodes_past_front = ((FRONT_X - x0) / h).floor() + 1.0;
-        let Selection3::Box { min, max } = &mut half.boundary[0].nodes else {
+        let Selection3::Box { min, max } = half.clone().load3()?.boundary[0].nodes else {
             bail!("the half model's symmetry condition must be a box");
         };
-        min[0] = x0 + nodes_past_front * h;
-        min[2] = z0;
-        max[2] = z0 + 10.0 + h;
+        half = half.set("boundary.0.nodes.box.min", format!("[{}, {}, {z0}]", x0 + nodes_past_front * h, min[1])).set("boundary.0.nodes.box.max", format!("[{}, {}, {}]", max[0], max[1], z0 + 10.0 + h));
     }
-    full.validate()?;
-    half.validate()?;
-    Ok((full, half))
+    Ok((full.load3()?, half.load3()?))
 }
 
 type Key = (u64, u64, u64);

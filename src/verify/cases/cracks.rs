@@ -14,14 +14,13 @@ use crate::crack::ContactLaw;
 use crate::report::plot::{LegendPosition, PlotSpec, Series};
 use crate::scene::Scene;
 use crate::simulation::Simulation;
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 
 // ---------------------------------------------------------------------------------------
 // Colliding cracked disks
 // ---------------------------------------------------------------------------------------
 
-/// `verification/cracked_disks.toml`, embedded.
-pub const CRACKED_DISKS: &str = include_str!("../../../verification/cracked_disks.toml");
 
 /// Crack half-length and disk diameter (mm).
 const DISK_A: f64 = 5.0;
@@ -37,16 +36,17 @@ const FRAMES: [f64; 2] = [20.0, 45.0];
 /// inside cells and each crack between two particle rows/columns, and it stays mirror
 /// symmetric about x = 0 (zero total momentum to the bit).
 pub fn cracked_disks_scene(h: f64) -> anyhow::Result<Scene> {
-    let mut scene = Scene::from_toml(CRACKED_DISKS, "verification/cracked_disks.toml")?;
+    let file = SceneFile::new("cracked_disks.toml");
+    let g = file.clone().load()?.grid;
     anyhow::ensure!(h > 0.0 && (1.0 / h).log2().fract() == 0.0, "h = {h} mm must be 1/2ⁿ");
-    if h != scene.grid.cell[0] {
-        let s = 0.5 * (1.0 - h);
-        scene.grid.cell = [h, h];
-        scene.grid.origin = [scene.grid.origin[0] - s, scene.grid.origin[1] - s];
-        scene.grid.size = [scene.grid.size[0] + 2.0 * s, scene.grid.size[1] + 2.0 * s];
+    if h == g.cell[0] {
+        return file.load();
     }
-    scene.validate()?;
-    Ok(scene)
+    let s = 0.5 * (1.0 - h);
+    file.set("grid.cell", format!("[{h}, {h}]"))
+        .set("grid.origin", format!("[{}, {}]", g.origin[0] - s, g.origin[1] - s))
+        .set("grid.size", format!("[{}, {}]", g.size[0] + 2.0 * s, g.size[1] + 2.0 * s))
+        .load()
 }
 
 /// Smallest and largest normal opening over a crack's particles, with their indices.
@@ -366,45 +366,14 @@ pub const FRICTION_END: f64 = 20.0;
 /// `{ friction = { mu = 0.3 } }`). E = 0.1 MPa, ν = 0.33, ρ = 1.5 g/cm³, plane stress,
 /// cells of `h` mm, uGIMP, USAVG, checked (units mm, g, ms). The crack runs beyond both
 /// blocks (x from −9.5 to 29.5); the base is held by its node rows y ≤ −3.
-pub fn block_on_crack(h: f64, force: [f64; 2], ramp: f64, end_time: f64, contact: &str) -> String {
-    let points: Vec<String> = (0..40).map(|i| format!("[{}, 0.0]", -9.5 + i as f64)).collect();
-    format!(
-        r#"
-title = "block sliding on a crack face"
-[grid]
-origin = [-10.0, -6.0]
-size = [40.0, 12.0]
-cell = [{h:?}, {h:?}]
-[solver]
-end_time = {end_time}
-[[materials]]
-name = "m"
-E = 0.1
-nu = 0.33
-rho = 1.5e-3
-state = "plane_stress"
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [0.0, 0.0], max = [20.0, 4.0] }} }}
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [-8.0, -4.0], max = [28.0, 0.0] }} }}
-[[boundary]]
-nodes = {{ region = {{ min = [-10.0, -6.0], max = [30.0, -3.0] }} }}
-vx = 0.0
-vy = 0.0
-[[loads]]
-particles = {{ region = {{ min = [0.0, 0.0], max = [20.0, 4.0] }} }}
-force = [{fx}, {fy}]
-ramp = {ramp}
-[[cracks]]
-points = [{p}]
-contact = {contact}
-"#,
-        fx = force[0],
-        fy = force[1],
-        p = points.join(", ")
-    )
+/// `verification/crack_friction.toml` with overrides.
+pub fn block_on_crack(h: f64, force: [f64; 2], ramp: f64, end_time: f64, contact: &str) -> SceneFile {
+    SceneFile::new("crack_friction.toml")
+        .set("grid.cell", format!("[{h:?}, {h:?}]"))
+        .set("solver.end_time", end_time)
+        .set("loads.0.force", format!("[{}, {}]", force[0], force[1]))
+        .set("loads.0.ramp", ramp)
+        .set("cracks.0.contact", contact)
 }
 
 /// Closed-form velocity and displacement of the block for acceleration `a` under the ramp.
@@ -457,8 +426,7 @@ pub struct FrictionRun {
 /// The block on a crack with Coulomb coefficient `mu` and tangential force `f` (N), cells of `h` mm.
 pub fn run_friction_block(h: f64, mu: f64, f: f64) -> anyhow::Result<FrictionRun> {
     let started = std::time::Instant::now();
-    let text = block_on_crack(h, [f, -FRICTION_N], FRICTION_RAMP, FRICTION_END, &format!("{{ friction = {{ mu = {mu} }} }}"));
-    let mut sim = Scene::from_toml(&text, "crack friction")?.build()?;
+    let mut sim = block_on_crack(h, [f, -FRICTION_N], FRICTION_RAMP, FRICTION_END, &format!("{{ friction = {{ mu = {mu} }} }}")).load()?.build()?;
     // The crack particle under the middle of the block (x = 9.5 at 1 mm cells).
     let mid = (0..sim.cracks[0].points.len())
         .min_by(|&i, &j| {

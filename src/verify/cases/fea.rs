@@ -407,12 +407,11 @@ pub struct MpmVsFea {
 /// mid-plane nodes x < 50 and the FEA meshes the crack to x = 50); `shorter` moves the
 /// tip one cell towards the loaded end (the negative control).
 pub fn dcb_nairn2003_scene(h: f64, shorter: bool) -> anyhow::Result<crate::scene::Scene> {
-    let mut scene = crate::scene::Scene::from_toml(crate::fea::compare::DCB_NAIRN2003_SCENE, "verification/dcb_nairn2003.toml")?;
     anyhow::ensure!(50.0 % h == 0.0 && 4.0 % h == 0.0, "h = {h} mm must divide 4 mm");
-    scene.grid.cell = [h, h];
-    scene.cracks[0].points[1] = [50.0 - 0.5 * h - if shorter { h } else { 0.0 }, 0.0];
-    scene.validate()?;
-    Ok(scene)
+    crate::verify::scene_file::SceneFile::new("dcb_nairn2003.toml")
+        .set("grid.cell", format!("[{h}, {h}]"))
+        .set("cracks.0.points.1", format!("[{}, 0.0]", 50.0 - 0.5 * h - if shorter { h } else { 0.0 }))
+        .load()
 }
 
 /// Run the damped MPM DCB at cell size `h` (`checked` overrides the scene's checked

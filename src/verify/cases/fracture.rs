@@ -17,6 +17,7 @@ use crate::fracture::jintegral::{CodMethod, TipEnd};
 use crate::material::Constitutive;
 use crate::report::plot::{PlotSpec, Series};
 use crate::scene::Scene;
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 
 
@@ -27,55 +28,24 @@ pub const RHO: f64 = 5.0e-3;
 pub const SIGMA: f64 = 4.0e-4;
 pub const A: f64 = 2.4;
 
-/// The half plate at cell size `h`, run to `end_time` µs, J requested at the tip.
+/// The half plate at cell size `h`, run to `end_time` µs, J requested at the tip:
+/// `verification/chen_cct.toml` with the cell size's overrides.
+pub fn chen_file(h: f64, end_time: f64) -> SceneFile {
+    SceneFile::new("chen_cct.toml")
+        .set("grid.origin", format!("[{}, -21.0]", -2.0 * h))
+        .set("grid.size", format!("[{}, 42.0]", 10.0 + 4.0 * h))
+        .set("grid.cell", format!("[{h}, {h}]"))
+        .set("solver.end_time", end_time)
+        .set("boundary.0.nodes.region.min", format!("[{}, -21.0]", -2.0 * h))
+        .set("boundary.1.nodes.region.max", format!("[{}, 21.0]", 10.0 + 2.0 * h))
+        .set("loads.0.particles.region.min", format!("[0.0, {}]", 20.0 - 0.5 * h))
+        .set("loads.1.particles.region.max", format!("[10.0, {}]", -20.0 + 0.5 * h))
+        .set("cracks.0.points", format!("[[{}, 0.0], [{A}, 0.0]]", -h))
+}
+
+/// [`chen_file`], read.
 pub fn chen_scene(h: f64, end_time: f64) -> anyhow::Result<Scene> {
-    // Total force on the top (and bottom) row of particles: σ₀ × half width × thickness.
-    let force = SIGMA * 10.0;
-    let text = format!(
-        r#"
-title = "Chen CCT (right half, rollers) h = {h} mm"
-[grid]
-origin = [{x0}, -21.0]
-size = [{sx}, 42.0]
-cell = [{h}, {h}]
-[solver]
-end_time = {end_time}
-particles_per_cell = 2
-[[materials]]
-name = "steel"
-E = {E}
-nu = {NU}
-rho = {RHO}
-state = "plane_strain"
-[[bodies]]
-material = "steel"
-shape = {{ rectangle = {{ min = [0.0, -20.0], max = [10.0, 20.0] }} }}
-[[boundary]]
-nodes = {{ region = {{ min = [{x0}, -21.0], max = [0.0, 21.0] }} }}
-vx = 0.0
-[[boundary]]
-nodes = {{ region = {{ min = [10.0, -21.0], max = [{x1}, 21.0] }} }}
-vx = 0.0
-[[loads]]
-particles = {{ region = {{ min = [0.0, {ytop}], max = [10.0, 20.0] }} }}
-force = [0.0, {force}]
-[[loads]]
-particles = {{ region = {{ min = [0.0, -20.0], max = [10.0, {ybot}] }} }}
-force = [0.0, {neg}]
-[[cracks]]
-points = [[{cx}, 0.0], [{A}, 0.0]]
-contact = "frictionless"
-fracture = {{ tips = "end", area_term = true }}
-"#,
-        x0 = -2.0 * h,
-        sx = 10.0 + 4.0 * h,
-        x1 = 10.0 + 2.0 * h,
-        ytop = 20.0 - 0.5 * h,
-        ybot = -20.0 + 0.5 * h,
-        neg = -force,
-        cx = -h,
-    );
-    Ok(Scene::from_toml(&text, "Chen CCT")?)
+    chen_file(h, end_time).load()
 }
 
 /// Freund's semi-infinite-crack response to a crack-face pressure p applied suddenly at
@@ -244,50 +214,24 @@ pub const ARMS: Settle = Settle { damping: 5.0, damping_on: "grid", end_time: 3.
 /// 0.1 % of K by 3 ms at 2 and 1 mm (measured).
 pub const WHOLE_BEAM: Settle = Settle { damping: 5.0, damping_on: "particles", end_time: 4.0 };
 
-/// The split beam of Guo & Nairn 2004 §4.1 (Fig. 4) at cell size h (scene text).
-pub fn beam(h: f64, p_top: f64, p_bottom: f64, contact: &str, contour: usize, settle: Settle) -> String {
+/// The split beam of Guo & Nairn 2004 §4.1 (Fig. 4) at cell size h: `verification/split_beam.toml`
+/// with overrides (end loads, crack contact law as TOML, e.g. `"none"`, J contour, damping).
+pub fn beam(h: f64, p_top: f64, p_bottom: f64, contact: &str, contour: usize, settle: Settle) -> SceneFile {
     let Settle { damping, damping_on, end_time } = settle;
-    format!(
-        r#"
-title = "split beam (Guo & Nairn 2004 §4.1), h = {h} mm, P_T = {p_top}, P_B = {p_bottom}"
-[grid]
-origin = [{ox}, -8.0]
-size = [116.0, 40.0]
-cell = [{h}, {h}]
-[solver]
-end_time = {end_time}
-damping = {damping}
-damping_on = "{damping_on}"
-particles_per_cell = 2
-[output]
-history_interval = 0.5
-[[materials]]
-name = "epoxy"
-E = {E_BEAM}
-nu = {NU_BEAM}
-rho = 1.5e-3
-state = "plane_stress"
-[[bodies]]
-material = "epoxy"
-shape = {{ rectangle = {{ min = [0.0, 0.0], max = [100.0, 24.0] }} }}
-[[boundary]]
-nodes = {{ region = {{ min = [{ox}, -8.0], max = [0.0, 32.0] }} }}
-vx = 0.0
-vy = 0.0
-[[loads]]
-particles = {{ region = {{ min = [{lx}, 12.0], max = [100.0, 24.0] }} }}
-force = [0.0, {p_top}]
-[[loads]]
-particles = {{ region = {{ min = [{lx}, 0.0], max = [100.0, 12.0] }} }}
-force = [0.0, {p_bottom}]
-[[cracks]]
-points = [[104.0, 12.0], [50.0, 12.0]]
-contact = "{contact}"
-fracture = {{ tips = "end", contour = {contour} }}
-"#,
-        lx = 100.0 - 0.5 * h,
-        ox = -8.0 - 0.25 * h,
-    )
+    let (ox, lx) = (-8.0 - 0.25 * h, 100.0 - 0.5 * h);
+    SceneFile::new("split_beam.toml")
+        .set("grid.origin", format!("[{ox}, -8.0]"))
+        .set("grid.cell", format!("[{h}, {h}]"))
+        .set("solver.end_time", end_time)
+        .set("solver.damping", damping)
+        .set("solver.damping_on", format!("\"{damping_on}\""))
+        .set("boundary.0.nodes.region.min", format!("[{ox}, -8.0]"))
+        .set("loads.0.particles.region.min", format!("[{lx}, 12.0]"))
+        .set("loads.0.force", format!("[0.0, {p_top}]"))
+        .set("loads.1.particles.region.min", format!("[{lx}, 0.0]"))
+        .set("loads.1.force", format!("[0.0, {p_bottom}]"))
+        .set("cracks.0.contact", format!("\"{contact}\""))
+        .set("cracks.0.fracture.contour", contour)
 }
 
 /// Crack length from the load line (the loaded particle column at x = 100 − h/4).
@@ -309,7 +253,7 @@ pub fn k_enf(p: f64, a: f64) -> f64 {
 /// K_I of the DCB at cell size h after the damped run (last cracks.csv row), J on the
 /// 2×2 and 4×4 contours, and the wall time.
 pub fn dcb_k(h: f64) -> anyhow::Result<(f64, f64, f64, f64)> {
-    let scene = Scene::from_toml(&beam(h, 1.0, -1.0, "none", 2, ARMS), "DCB")?;
+    let scene = beam(h, 1.0, -1.0, "none", 2, ARMS).load()?;
     let start = std::time::Instant::now();
     let r = crate::output::run_scene(&scene, &crate::output::RunOptions { checked: Some(false), ..Default::default() })?;
     let wall = start.elapsed().as_secs_f64();
@@ -383,9 +327,7 @@ pub fn split_contour(h: f64) -> usize {
 
 /// The split beam with end loads P_T, P_B at cell size h, damped to its static state.
 pub fn split_beam(h: f64, p_top: f64, p_bottom: f64) -> anyhow::Result<SplitBeam> {
-    let text = beam(h, p_top, p_bottom, "none", split_contour(h), WHOLE_BEAM).replace("tips = \"end\",", "tips = \"end\", cod = \"fit\",");
-    anyhow::ensure!(text.contains("cod = \"fit\""), "split beam scene: no fracture table to set cod in");
-    let scene = Scene::from_toml(&text, "split beam")?;
+    let scene = beam(h, p_top, p_bottom, "none", split_contour(h), WHOLE_BEAM).set("cracks.0.fracture.cod", "\"fit\"").load()?;
     let start = std::time::Instant::now();
     let r = crate::output::run_scene(&scene, &crate::output::RunOptions { checked: Some(false), ..Default::default() })?;
     let wall = start.elapsed().as_secs_f64();
@@ -514,10 +456,8 @@ pub struct DcbLong {
 /// ½(p'² − p²)/m − f·(x' − x) = −Δt² f²/(2m), which sums to −½Δt f·v(t). The term is
 /// bounded by the load-point velocity and vanishes with it — no drift.
 pub fn dcb_long(h: f64, steps: u64, settle: Settle) -> anyhow::Result<DcbLong> {
-    let mut scene = Scene::from_toml(&beam(h, 1.0, -1.0, "none", 2, settle), "DCB, long run")?;
-    let dt = scene.time_step();
-    scene.solver.end_time = steps as f64 * dt;
-    scene.validate()?;
+    let dt = beam(h, 1.0, -1.0, "none", 2, settle).load()?.time_step();
+    let scene = beam(h, 1.0, -1.0, "none", 2, settle).set("solver.end_time", steps as f64 * dt).load()?;
     let requests = scene.fracture_requests();
     let mut sim = scene.build()?;
     sim.options.checked = false;

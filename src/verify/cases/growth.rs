@@ -31,7 +31,8 @@ use crate::fracture::criteria::hoop_stress_angle;
 use crate::output::{run_scene, RunOptions, RunResult};
 use crate::report::plot::{PlotSpec, Series};
 use crate::scene::Scene;
-use crate::verify::cases::fracture::{a_of, ARM, CHI, E_BEAM, NU_BEAM};
+use crate::verify::cases::fracture::{a_of, ARM, CHI, E_BEAM};
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 
 /// K_Ic of PMMA, 1.2 MPa√m in MPa√mm.
@@ -39,124 +40,54 @@ pub const KIC_PMMA: f64 = 37.947;
 
 /// The three-point-bend beam of 001 §3.1 at cell size `h`, struck at x = e·l
 /// (`eccentricity` e/l, l = 200 mm), with `criterion` ("max_hoop_stress" or
-/// "min_strain_energy"), run to `end_time` ms.
-pub fn three_point_bend(h: f64, eccentricity: f64, criterion: &str, end_time: f64) -> String {
+/// "min_strain_energy"), run to `end_time` ms: `verification/pmma_tpb.toml` with overrides.
+pub fn three_point_bend(h: f64, eccentricity: f64, criterion: &str, end_time: f64) -> SceneFile {
     let xi = eccentricity * 200.0;
-    let support = |x: f64| format!("{{ region = {{ min = [{}, {}], max = [{}, {}] }} }}", x - 0.5 * h - 0.01, -0.5 * h - 0.01, x + 0.5 * h + 0.01, -0.5 * h + 0.01);
-    format!(
-        r#"
-title = "PMMA three-point bend impact (Guo & Nairn 001 §3.1–3.2), h = {h} mm, e/l = {eccentricity}, {criterion}"
-[grid]
-origin = [{ox}, {oy}]
-size = [480.0, 180.0]
-cell = [{h}, {h}]
-[solver]
-end_time = {end_time}
-particles_per_cell = 2
-[output]
-history_interval = 0.01
-[[materials]]
-name = "pmma"
-E = 2940.0
-nu = 0.3
-rho = 1.19e-3
-state = "plane_strain"
-toughness = {{ criterion = "{criterion}", kic = {KIC_PMMA} }}
-[[materials]]
-name = "drop_weight"
-E = 1.0e5
-nu = 0.25
-rho = 0.84167
-state = "plane_strain"
-[[bodies]]
-material = "pmma"
-thickness = 10.0
-shape = {{ rectangle = {{ min = [-220.0, 0.0], max = [220.0, 100.0] }} }}
-[[bodies]]
-material = "drop_weight"
-thickness = 10.0
-velocity = [0.0, -5.0]
-shape = {{ rectangle = {{ min = [{w0}, 100.0], max = [{w1}, 130.0] }} }}
-[[boundary]]
-nodes = {left}
-vy = 0.0
-[[boundary]]
-nodes = {right}
-vy = 0.0
-[[cracks]]
-points = [[0.0, -2.0], [0.0, 50.0]]
-contact = "frictionless"
-fracture = {{ tips = "end", contour = 2, area_term = true, growth = {{ increment = 0.5, every = 1 }} }}
-"#,
-        ox = -240.0 - 0.5 * h,
-        oy = -20.0 - 0.5 * h,
-        w0 = xi - 10.0,
-        w1 = xi + 10.0,
-        left = support(-200.0),
-        right = support(200.0),
-    )
+    let support = |x: f64| format!("{{ min = [{}, {}], max = [{}, {}] }}", x - 0.5 * h - 0.01, -0.5 * h - 0.01, x + 0.5 * h + 0.01, -0.5 * h + 0.01);
+    SceneFile::new("pmma_tpb.toml")
+        .set("grid.origin", format!("[{}, {}]", -240.0 - 0.5 * h, -20.0 - 0.5 * h))
+        .set("grid.cell", format!("[{h}, {h}]"))
+        .set("solver.end_time", end_time)
+        .set("materials.0.toughness.criterion", format!("\"{criterion}\""))
+        .set("bodies.1.shape.rectangle.min", format!("[{}, 100.0]", xi - 10.0))
+        .set("bodies.1.shape.rectangle.max", format!("[{}, 130.0]", xi + 10.0))
+        .set("boundary.0.nodes.region", support(-200.0))
+        .set("boundary.1.nodes.region", support(200.0))
 }
 
 /// A 40 × 40 mm plate with a centre crack 2a = 10 mm along x, loaded by pure shear τ =
 /// 1 MPa on its four edges (ramped over 0.5 ms, damped), E = 1000 MPa, ν = 0.3, plane
-/// strain, maximum hoop stress with K_Ic = `kic`, run to `end_time` ms.
-pub fn shear_plate(h: f64, kic: f64, end_time: f64) -> String {
+/// strain, maximum hoop stress with K_Ic = `kic`, run to `end_time` ms:
+/// `verification/mode_ii_kink.toml` with overrides.
+pub fn shear_plate(h: f64, kic: f64, end_time: f64) -> SceneFile {
     let (l, e, o) = (20.0, 0.5 * h, -24.0 - 0.5 * h);
-    // Total edge force τ × 40 mm × 1 mm on each edge, corners left out of both.
-    let f = 40.0;
-    format!(
-        r#"
-title = "centre crack under pure shear: the mode II kink, h = {h} mm"
-[grid]
-origin = [{o}, {o}]
-size = [{s}, {s}]
-cell = [{h}, {h}]
-[solver]
-end_time = {end_time}
-damping = 10.0
-[output]
-history_interval = 0.05
-[[materials]]
-name = "solid"
-E = 1000.0
-nu = 0.3
-rho = 1.0e-3
-state = "plane_strain"
-toughness = {{ criterion = "max_hoop_stress", kic = {kic} }}
-[[bodies]]
-material = "solid"
-shape = {{ rectangle = {{ min = [-{l}, -{l}], max = [{l}, {l}] }} }}
-[[loads]]
-particles = {{ region = {{ min = [{a}, {b}], max = [{b}, {l}] }} }}
-force = [{f}, 0.0]
-ramp = 0.5
-[[loads]]
-particles = {{ region = {{ min = [{a}, -{l}], max = [{b}, {a}] }} }}
-force = [-{f}, 0.0]
-ramp = 0.5
-[[loads]]
-particles = {{ region = {{ min = [{b}, -{l}], max = [{l}, {l}] }} }}
-force = [0.0, {f}]
-ramp = 0.5
-[[loads]]
-particles = {{ region = {{ min = [-{l}, -{l}], max = [{a}, {l}] }} }}
-force = [0.0, -{f}]
-ramp = 0.5
-[[cracks]]
-points = [[-5.0, 0.0], [5.0, 0.0]]
-fracture = {{ tips = "both", contour = 2, area_term = true, growth = {{ increment = 0.5 }} }}
-"#,
-        s = -2.0 * o,
-        a = -l + e,
-        b = l - e,
-    )
+    let (a, b) = (-l + e, l - e);
+    SceneFile::new("mode_ii_kink.toml")
+        .set("grid.origin", format!("[{o}, {o}]"))
+        .set("grid.size", format!("[{}, {}]", -2.0 * o, -2.0 * o))
+        .set("grid.cell", format!("[{h}, {h}]"))
+        .set("solver.end_time", end_time)
+        .set("materials.0.toughness.kic", kic)
+        .set("loads.0.particles.region", format!("{{ min = [{a}, {b}], max = [{b}, {l}] }}"))
+        .set("loads.1.particles.region", format!("{{ min = [{a}, {}], max = [{b}, {a}] }}", -l))
+        .set("loads.2.particles.region", format!("{{ min = [{b}, {}], max = [{l}, {l}] }}", -l))
+        .set("loads.3.particles.region", format!("{{ min = [{}, {}], max = [{a}, {l}] }}", -l, -l))
+}
+
+/// Run a growth scene file (unchecked unless `checked`), returning the run and its wall time.
+pub fn run_growth_file(file: &SceneFile, checked: bool) -> anyhow::Result<(RunResult, f64)> {
+    run_growth_scene(&file.load()?, checked)
 }
 
 /// Run a growth scene (unchecked unless `checked`), returning the run and its wall time.
 pub fn run_growth(text: &str, checked: bool) -> anyhow::Result<(RunResult, f64)> {
-    let scene = Scene::from_toml(text, "growth case")?;
+    run_growth_scene(&Scene::from_toml(text, "growth case")?, checked)
+}
+
+/// Run a growth scene (unchecked unless `checked`), returning the run and its wall time.
+pub fn run_growth_scene(scene: &Scene, checked: bool) -> anyhow::Result<(RunResult, f64)> {
     let start = std::time::Instant::now();
-    let r = run_scene(&scene, &RunOptions { checked: Some(checked), ..Default::default() })?;
+    let r = run_scene(scene, &RunOptions { checked: Some(checked), ..Default::default() })?;
     Ok((r, start.elapsed().as_secs_f64()))
 }
 
@@ -240,7 +171,7 @@ pub fn run_tpb(variant: Variant) -> anyhow::Result<CaseOutput> {
     let mut out = CaseOutput::default();
     let mut curves: Vec<(f64, Vec<(f64, f64)>)> = Vec::new();
     for &h in sizes {
-        let (r, wall) = run_growth(&three_point_bend(h, 0.0, "min_strain_energy", end), false)?;
+        let (r, wall) = run_growth_file(&three_point_bend(h, 0.0, "min_strain_energy", end), false)?;
         let recs = records(&r, TipEnd::End);
         let drift = recs.iter().map(|x| x.fracture.tip.x.abs()).fold(0.0, f64::max);
         let hist = depth_history(&recs);
@@ -281,7 +212,7 @@ pub fn run_offcentre(variant: Variant) -> anyhow::Result<CaseOutput> {
     for &h in sizes {
         let mut paths = Vec::new();
         for crit in ["max_hoop_stress", "min_strain_energy"] {
-            let (r, wall) = run_growth(&three_point_bend(h, 0.1, crit, 0.21), false)?;
+            let (r, wall) = run_growth_file(&three_point_bend(h, 0.1, crit, 0.21), false)?;
             let p = path(&r);
             let tip = *p.last().expect("a crack has points");
             out.measure("turns_toward_impact", &format!("h = {h} mm, {crit}"), tip.0, 0.0);
@@ -310,7 +241,7 @@ pub type Kinks = [(f64, f64); 2];
 pub fn mode_ii_kink(h: f64, end_time: f64, checked: bool) -> anyhow::Result<(Kinks, RunResult, f64)> {
     // K_Ic = 0.8 × (2/√3) τ√(πa): the tips start at ~80 % of the ramp.
     let kic = 0.8 * 2.0 / 3f64.sqrt() * (std::f64::consts::PI * 5.0).sqrt();
-    let (r, wall) = run_growth(&shear_plate(h, kic, end_time), checked)?;
+    let (r, wall) = run_growth_file(&shear_plate(h, kic, end_time), checked)?;
     let first = |end: TipEnd| -> anyhow::Result<(f64, f64)> {
         let x = records(&r, end).into_iter().find(|x| x.grew).ok_or_else(|| anyhow::anyhow!("the {end:?} tip never grew"))?;
         Ok((x.theta.to_degrees(), x.fracture.k1 / x.fracture.k2))
@@ -369,52 +300,19 @@ pub const V_DCB: f64 = 0.0225;
 /// shifted a quarter cell, crack from the right end to x = 50) with the load line — the
 /// node column at x = 100 − h/4 — moved apart at ±V in y (the nodes within a cell of the
 /// crack plane left free), κ = 5 ms⁻¹, maximum hoop stress with K_Ic = 5 MPa√mm, to 20 ms.
-pub fn dcb_growth_scene(h: f64) -> String {
+pub fn dcb_growth_scene(h: f64) -> SceneFile {
     let xl = 100.0 - 0.25 * h;
-    format!(
-        r#"
-title = "displacement-controlled DCB with a growing crack, h = {h} mm"
-[grid]
-origin = [{ox}, -8.0]
-size = [116.0, 40.0]
-cell = [{h}, {h}]
-[solver]
-end_time = 20.0
-damping = 5.0
-particles_per_cell = 2
-[output]
-history_interval = 0.5
-[[materials]]
-name = "epoxy"
-E = {E_BEAM}
-nu = {NU_BEAM}
-rho = 1.5e-3
-state = "plane_stress"
-toughness = {{ criterion = "max_hoop_stress", kic = {KIC_DCB} }}
-[[bodies]]
-material = "epoxy"
-shape = {{ rectangle = {{ min = [0.0, 0.0], max = [100.0, 24.0] }} }}
-[[boundary]]
-nodes = {{ region = {{ min = [{ox}, -8.0], max = [0.0, 32.0] }} }}
-vx = 0.0
-vy = 0.0
-[[boundary]]
-nodes = {{ region = {{ min = [{x0}, {top}], max = [{x1}, 32.0] }} }}
-vy = {V_DCB}
-[[boundary]]
-nodes = {{ region = {{ min = [{x0}, -8.0], max = [{x1}, {bottom}] }} }}
-vy = -{V_DCB}
-[[cracks]]
-points = [[104.0, 12.0], [50.0, 12.0]]
-contact = "none"
-fracture = {{ tips = "end", contour = 2, growth = {{ increment = 0.5 }} }}
-"#,
-        ox = -8.0 - 0.25 * h,
-        x0 = xl - 0.1 * h,
-        x1 = xl + 0.1 * h,
-        top = 12.0 + 0.9 * h,
-        bottom = 12.0 - 0.9 * h,
-    )
+    let ox = -8.0 - 0.25 * h;
+    let (x0, x1) = (xl - 0.1 * h, xl + 0.1 * h);
+    SceneFile::new("dcb_growth.toml")
+        .set("grid.origin", format!("[{ox}, -8.0]"))
+        .set("grid.cell", format!("[{h}, {h}]"))
+        .set("boundary.0.nodes.region.min", format!("[{ox}, -8.0]"))
+        .set("boundary.1.nodes.region", format!("{{ min = [{x0}, {}], max = [{x1}, 32.0] }}", 12.0 + 0.9 * h))
+        .set("boundary.1.vy", V_DCB)
+        .set("boundary.2.nodes.region", format!("{{ min = [{x0}, -8.0], max = [{x1}, {}] }}", 12.0 - 0.9 * h))
+        .set("boundary.2.vy", -V_DCB)
+        .set("materials.0.toughness.kic", KIC_DCB)
 }
 
 /// Corrected beam theory for the DCB under a load-line opening δ (both arms, total):
@@ -453,7 +351,7 @@ pub fn run_dcb_growth(variant: Variant) -> anyhow::Result<CaseOutput> {
     let mut out = CaseOutput::default();
     let mut series = Vec::new();
     for &h in sizes {
-        let (r, wall) = run_growth(&dcb_growth_scene(h), false)?;
+        let (r, wall) = run_growth_file(&dcb_growth_scene(h), false)?;
         let restarts = dcb_restarts(&r, h);
         if h <= 2.0 {
             out.measure("restarts", &format!("h = {h} mm"), restarts.len() as f64, 0.0);

@@ -18,6 +18,7 @@ use crate::material::Constitutive;
 use crate::report::plot::{PlotSpec, Series};
 use crate::scene::Scene;
 use crate::simulation::{Scheme, Simulation};
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 use anyhow::Context;
 
@@ -26,12 +27,11 @@ pub const SCENE: &str = include_str!("../../../verification/delrin_impact.toml")
 
 /// The impact scene with the given scheme and cell size.
 pub fn impact_scene(scheme: Scheme, cell: f64) -> anyhow::Result<Scene> {
-    let mut s = Scene::from_toml(SCENE, "verification/delrin_impact.toml")?;
-    s.solver.scheme = scheme;
-    s.grid.cell = [cell, cell];
-    s.solver.checked = true;
-    s.validate()?;
-    Ok(s)
+    SceneFile::new("delrin_impact.toml")
+        .set("solver.scheme", super::scheme_name(scheme))
+        .set("grid.cell", format!("[{cell}, {cell}]"))
+        .set("solver.checked", true)
+        .load()
 }
 
 /// Kinetic + strain energy (no loads, body forces or damping in this scene).

@@ -8,6 +8,7 @@ pub mod crack_patch;
 pub mod crack_patch_3d;
 pub mod crack_friction_3d;
 pub mod cracks;
+pub mod cracks_3d;
 pub mod fea;
 pub mod fracture;
 pub mod growth;
@@ -50,6 +51,8 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "spheres_3d", run: three_d::run_spheres },
     Case { name: "block_3d", run: three_d::run_block },
     Case { name: "extrusion_2d_3d", run: three_d::run_extrusion },
+    Case { name: "cracks_2d_3d", run: cracks_3d::run_2d_3d },
+    Case { name: "cracked_spheres_3d", run: cracks_3d::run_spheres },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "dcb_long", run: fracture::run_dcb_long },
     Case { name: "squashed_disk", run: stability::run_squashed_disk },

@@ -23,6 +23,7 @@
 use crate::fracture::jintegral::{CodMethod, TipEnd};
 use crate::report::plot::PlotSpec;
 use crate::scene::Scene;
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 use std::f64::consts::PI;
 
@@ -39,66 +40,6 @@ pub fn tada_sent(alpha: f64) -> f64 {
 
 /// Remote tension (MPa).
 const SIGMA: f64 = 1.0;
-
-/// `half_width`: x-extent of the modelled body from 0; `symmetric`: rollers at x = 0
-/// (the CCT's mirror plane) and the crack from outside to x = a; otherwise the SENT,
-/// whose edge crack runs from outside the left edge x = 0 to x = a. `shift` moves the
-/// grid by that many cells in −x (to put the tip inside a cell).
-#[allow(clippy::too_many_arguments)]
-pub fn plate(h: f64, width: f64, half_height: f64, a: f64, symmetric: bool, ramp: f64, damping: f64, end: f64, shift: f64) -> String {
-    let force = SIGMA * width;
-    let mut s = format!(
-        r#"
-[grid]
-origin = [{x0}, {y0}]
-size = [{sx}, {sy}]
-cell = [{h}, {h}]
-[solver]
-end_time = {end}
-damping = {damping}
-particles_per_cell = 2
-[[materials]]
-name = "m"
-E = 1000.0
-nu = 0.3
-rho = 1.0e-3
-state = "plane_strain"
-[[bodies]]
-material = "m"
-shape = {{ rectangle = {{ min = [0.0, {ymin}], max = [{width}, {half_height}] }} }}
-[[loads]]
-particles = {{ region = {{ min = [0.0, {ytop}], max = [{width}, {half_height}] }} }}
-force = [0.0, {force}]
-ramp = {ramp}
-[[loads]]
-particles = {{ region = {{ min = [0.0, {ymin}], max = [{width}, {ybot}] }} }}
-force = [0.0, {neg}]
-ramp = {ramp}
-[[cracks]]
-points = [[{cx}, 0.0], [{a}, 0.0]]
-contact = "none"
-fracture = {{ tips = "end" }}
-"#,
-        x0 = -2.0 * h - shift * h,
-        y0 = -half_height - 2.0 * h,
-        sx = width + 4.0 * h,
-        sy = 2.0 * half_height + 4.0 * h,
-        ymin = -half_height,
-        ytop = half_height - 0.5 * h,
-        ybot = -half_height + 0.5 * h,
-        neg = -force,
-        cx = -h,
-    );
-    if symmetric {
-        s += &format!(
-            "[[boundary]]\nnodes = {{ region = {{ min = [{}, {}], max = [0.0, {}] }} }}\nvx = 0.0\n",
-            -3.0 * h,
-            -half_height - 2.0 * h,
-            half_height + 2.0 * h
-        );
-    }
-    s
-}
 
 /// The two plates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -121,15 +62,53 @@ impl PlateKind {
         }
     }
 
-    /// The scene text at cell size h and the crack length a.
-    pub fn scene(self, h: f64) -> (String, f64) {
+    /// The scene file (`verification/cct_plate.toml`, `sent_plate.toml`).
+    pub fn file(self) -> &'static str {
         match self {
-            PlateKind::Cct => {
-                let a = 5.0 - 0.5 * h;
-                (plate(h, 10.0, 30.0, a, true, 0.25, 60.0, 0.6, 0.0), a)
-            }
-            PlateKind::Sent => (plate(h, 20.0, 20.0, 6.0, false, 0.25, 60.0, 0.6, 0.5), 6.0),
+            PlateKind::Cct => "cct_plate.toml",
+            PlateKind::Sent => "sent_plate.toml",
         }
+    }
+
+    /// The case's crack length at cell size h: CCT a = 5 − h/2 (tip mid-cell), SENT 6 mm.
+    pub fn crack_length(self, h: f64) -> f64 {
+        match self {
+            PlateKind::Cct => 5.0 - 0.5 * h,
+            PlateKind::Sent => 6.0,
+        }
+    }
+
+    /// The plate's scene at cell size h with the tip at x = a and the grid shifted by
+    /// `shift` cells in −x, as overrides of its file: two cells of margin, the loaded
+    /// particle rows the outermost half cell, the crack from one cell outside the body.
+    pub fn scene_file(self, h: f64, a: f64, shift: f64) -> SceneFile {
+        let (width, half_height) = match self {
+            PlateKind::Cct => (10.0, 30.0),
+            PlateKind::Sent => (20.0, 20.0),
+        };
+        let file = SceneFile::new(self.file())
+            .set("grid.origin", format!("[{}, {}]", -2.0 * h - shift * h, -half_height - 2.0 * h))
+            .set("grid.size", format!("[{}, {}]", width + 4.0 * h, 2.0 * half_height + 4.0 * h))
+            .set("grid.cell", format!("[{h}, {h}]"))
+            .set("loads.0.particles.region.min", format!("[0.0, {}]", half_height - 0.5 * h))
+            .set("loads.1.particles.region.max", format!("[{width}, {}]", -half_height + 0.5 * h))
+            .set("cracks.0.points", format!("[[{}, 0.0], [{a}, 0.0]]", -h));
+        match self {
+            // Rollers on the mirror plane x = 0 and the nodes beyond it.
+            PlateKind::Cct => file.set("boundary.0.nodes.region", format!("{{ min = [{}, {}], max = [0.0, {}] }}", -3.0 * h, -half_height - 2.0 * h, half_height + 2.0 * h)),
+            PlateKind::Sent => file,
+        }
+    }
+
+    /// The case's scene at cell size h (the SENT's grid shifted half a cell so its tip is
+    /// mid-cell) and the crack length a.
+    pub fn scene(self, h: f64) -> anyhow::Result<(Scene, f64)> {
+        let a = self.crack_length(h);
+        let shift = match self {
+            PlateKind::Cct => 0.0,
+            PlateKind::Sent => 0.5,
+        };
+        Ok((self.scene_file(h, a, shift).load()?, a))
     }
 
     /// Tada's K_I for crack length a.
@@ -171,8 +150,7 @@ impl PlateRun {
 
 /// Ramp, damp and sample K_I of one plate at cell size h.
 pub fn plate_k(kind: PlateKind, h: f64) -> anyhow::Result<PlateRun> {
-    let (text, a) = kind.scene(h);
-    let scene = Scene::from_toml(&text, &format!("{} plate, h = {h} mm", kind.name()))?;
+    let (scene, a) = kind.scene(h)?;
     let started = std::time::Instant::now();
     let mut sim = scene.build()?;
     let end = scene.solver.end_time;

@@ -28,14 +28,12 @@
 use super::{scheme_name, SCHEMES};
 use crate::check::CheckError;
 use crate::report::plot::{PlotSpec, Series};
-use crate::scene::Scene;
 use crate::shape::ShapeKind;
 use crate::simulation::{Scheme, Simulation};
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 use anyhow::Context;
 
-pub const CFL_SCENE: &str = include_str!("../../../verification/cfl_block.toml");
-pub const SQUASH_SCENE: &str = include_str!("../../../verification/squashed_disk.toml");
 
 /// How a run at a given time-step fraction ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -49,11 +47,17 @@ pub struct StepOutcome {
 
 /// Run the CFL block with `scheme` at Δt = `fraction` · h/c_d for up to `max_steps`.
 pub fn run_block(scheme: Scheme, fraction: f64, max_steps: u64) -> anyhow::Result<StepOutcome> {
-    let scene = Scene::from_toml(CFL_SCENE, "verification/cfl_block.toml")?;
+    let file = SceneFile::new("cfl_block.toml");
+    let base = file.clone().load()?;
+    let dt = fraction * Simulation::cfl_dt(&base.grid(), &base.materials());
+    let scene = file
+        .set("solver.scheme", scheme_name(scheme))
+        .set("solver.checked", true)
+        .set("solver.dt", format!("{dt:?}"))
+        .set("solver.end_time", format!("{:?}", max_steps as f64 * dt))
+        .load()?;
     let mut sim = scene.build()?;
-    sim.options.scheme = scheme;
-    sim.options.checked = true;
-    sim.options.dt = fraction * Simulation::cfl_dt(&sim.grid, &sim.materials);
+    anyhow::ensure!(sim.options.dt == dt, "time step {} vs {dt}", sim.options.dt);
     let e0 = {
         let e = sim.energies();
         e.kinetic + e.strain
@@ -164,10 +168,10 @@ pub struct SquashRun {
 
 /// Squash the disk of `verification/squashed_disk.toml` with the given shape functions and cell size.
 pub fn run_squash(shape: ShapeKind, cell: f64) -> anyhow::Result<SquashRun> {
-    let mut scene = Scene::from_toml(SQUASH_SCENE, "verification/squashed_disk.toml")?;
-    scene.solver.shape = shape;
-    scene.grid.cell = [cell, cell];
-    scene.validate()?;
+    let scene = SceneFile::new("squashed_disk.toml")
+        .set("solver.shape", super::vibrating_bar::shape_name(shape))
+        .set("grid.cell", format!("[{cell}, {cell}]"))
+        .load()?;
     let mut sim = scene.build()?;
     let disk = |s: &Simulation| (0..s.particles.len()).filter(|&i| s.particles.body[i] == 0).collect::<Vec<_>>();
     let ids = disk(&sim);
@@ -219,7 +223,7 @@ pub fn run_squash(shape: ShapeKind, cell: f64) -> anyhow::Result<SquashRun> {
 pub fn run_squashed_disk(variant: Variant) -> anyhow::Result<CaseOutput> {
     anyhow::ensure!(variant == Variant::Full, "squashed_disk has no quick variant");
     let mut out = CaseOutput::default();
-    let scene = Scene::from_toml(SQUASH_SCENE, "verification/squashed_disk.toml")?;
+    let scene = SceneFile::new("squashed_disk.toml").load()?;
     let cell = scene.grid.cell[0];
     let mut runs = Vec::new();
     for shape in [ShapeKind::Ugimp, ShapeKind::Linear] {

@@ -9,18 +9,13 @@ use super::vibrating_bar::{bar_scene, run_bar_sim, BarConfig};
 use super::{csum, scheme_name, SCHEMES};
 use crate::dim::{Vector3, D3};
 use crate::report::plot::{PlotSpec, Series};
-use crate::scene::Scene;
-use crate::scene3d::{Scene3, Selection3, Solid};
+use crate::scene3d::{Scene3, Solid};
 use crate::simulation::{Scheme, Simulation};
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
 use anyhow::{bail, Context};
 use std::f64::consts::PI;
 
-pub const BAR_3D: &str = include_str!("../../../verification/vibrating_bar_3d.toml");
-pub const SPHERES: &str = include_str!("../../../verification/colliding_spheres_3d.toml");
-pub const BLOCK: &str = include_str!("../../../verification/block_tension_3d.toml");
-pub const IMPACT_2D: &str = include_str!("../../../verification/extrusion_impact_2d.toml");
-pub const IMPACT_3D: &str = include_str!("../../../verification/extrusion_impact_3d.toml");
 
 /// The 3D bar's dimensions and material, read from the scene.
 struct Bar3 {
@@ -59,20 +54,19 @@ impl Bar3 {
 /// The 3D bar scene with scheme, cell size and periods; k = π/(2L) exactly; vx fixed on
 /// every node x ≤ 0 when `fix_exterior` (see the 2D case for why USL needs it).
 fn bar3_scene(scheme: Scheme, cell: f64, periods: f64, fix_exterior: bool) -> anyhow::Result<Scene3> {
-    let mut s = Scene3::from_toml(BAR_3D, "verification/vibrating_bar_3d.toml", None)?;
-    let bar = Bar3::of(&s)?;
-    if let Some(sine) = s.bodies[0].velocity_sine.as_mut() {
-        sine.k = [PI / (2.0 * bar.length), 0.0, 0.0];
-    }
-    s.solver.scheme = scheme;
-    s.solver.end_time = periods * bar.period();
-    s.grid.cell = [cell; 3];
+    let file = SceneFile::new("vibrating_bar_3d.toml");
+    let base = file.clone().load3()?;
+    let bar = Bar3::of(&base)?;
+    let mut file = file
+        .set("bodies.0.velocity_sine.k", format!("[{}, 0.0, 0.0]", PI / (2.0 * bar.length)))
+        .set("solver.scheme", scheme_name(scheme))
+        .set("solver.end_time", periods * bar.period())
+        .set("grid.cell", format!("[{cell}, {cell}, {cell}]"));
     if fix_exterior {
-        let (o, size) = (s.grid.origin, s.grid.size);
-        s.boundary[0].nodes = Selection3::Box { min: o, max: [0.0, o[1] + size[1], o[2] + size[2]] };
+        let (o, size) = (base.grid.origin, base.grid.size);
+        file = file.set("boundary.0.nodes", format!("{{ box = {{ min = [{}, {}, {}], max = [0.0, {}, {}] }} }}", o[0], o[1], o[2], o[1] + size[1], o[2] + size[2]));
     }
-    s.validate()?;
-    Ok(s)
+    file.load3()
 }
 
 /// Case `bar_3d`: the single-mode bar in 3D, period and energy per scheme.
@@ -82,7 +76,7 @@ pub fn run_bar(variant: Variant) -> anyhow::Result<CaseOutput> {
         Variant::Full => 0.5,
     };
     let mut out = CaseOutput::default();
-    let base = Scene3::from_toml(BAR_3D, "verification/vibrating_bar_3d.toml", None)?;
+    let base = SceneFile::new("vibrating_bar_3d.toml").load3()?;
     let bar = Bar3::of(&base)?;
     let t_exact = bar.period();
     let omega = 2.0 * PI / t_exact;
@@ -126,15 +120,14 @@ pub fn run_bar(variant: Variant) -> anyhow::Result<CaseOutput> {
 /// Case `spheres_3d`: momentum conserved to round-off every step, energy of USAVG bounded
 /// through collision and rebound, rebound.
 pub fn run_spheres(variant: Variant) -> anyhow::Result<CaseOutput> {
-    let mut scene = Scene3::from_toml(SPHERES, "verification/colliding_spheres_3d.toml", None)?;
+    let mut scene = SceneFile::new("colliding_spheres_3d.toml");
     if variant == Variant::Full {
-        scene.grid.cell = [0.025; 3];
+        scene = scene.set("grid.cell", "[0.025, 0.025, 0.025]");
     }
     let mut out = CaseOutput::default();
     let mut usavg_energy = Vec::new();
     for scheme in SCHEMES {
-        let mut s = scene.clone();
-        s.solver.scheme = scheme;
+        let s = scene.clone().set("solver.scheme", scheme_name(scheme)).load3()?;
         let mut sim = s.build()?;
         let p = &sim.particles;
         let scale = csum((0..p.len()).map(|i| p.mass[i] * p.v[i].abs().sum()));
@@ -184,15 +177,12 @@ fn momentum3(s: &Simulation<D3>) -> Vector3 {
 
 /// Case `block_3d`: a damped block in uniaxial tension settles to the closed form.
 pub fn run_block(variant: Variant) -> anyhow::Result<CaseOutput> {
-    let mut scene = Scene3::from_toml(BLOCK, "verification/block_tension_3d.toml", None)?;
+    let mut file = SceneFile::new("block_tension_3d.toml").set("solver.checked", false);
     if variant == Variant::Full {
-        scene.grid.cell = [0.5; 3];
-        if let Selection3::Plane { point, tolerance, .. } = &mut scene.loads[0].particles {
-            point[0] = 9.875;
-            *tolerance = Some(0.05);
-        }
+        // The last particle layer of 0.5 mm cells with 2 particles per cell: x = 9.875.
+        file = file.set("grid.cell", "[0.5, 0.5, 0.5]").set("loads.0.particles.plane.point.0", 9.875).set("loads.0.particles.plane.tolerance", 0.05);
     }
-    scene.solver.checked = false;
+    let scene = file.load3()?;
     let mut sim = scene.build()?;
     let (e, nu) = (scene.materials[0].e, scene.materials[0].nu);
     let Solid::Box { min, max } = scene.bodies[0].shape else { bail!("the block must be a box") };
@@ -248,23 +238,32 @@ pub fn run_extrusion(variant: Variant) -> anyhow::Result<CaseOutput> {
             Solid::Box { min, max } => max[2] - min[2],
             _ => bail!("the 3D bar must be a box"),
         };
-        let (s2b, s3b) = (s2.build()?, s3.build()?);
-        compare_extrusion(&mut out, &format!("bar {}", scheme_name(scheme)), s2b, s3b, s2.solver.end_time, width)?;
+        let (mut s2b, mut s3b) = (s2.build()?, s3.build()?);
+        compare_extrusion(&mut out, &format!("bar {}", scheme_name(scheme)), &mut s2b, &mut s3b, s2.solver.end_time, width, |_, _| {})?;
     }
     // 2. The Delrin impact in plane strain (two bodies, impact through the shared field).
-    let s2 = Scene::from_toml(IMPACT_2D, "verification/extrusion_impact_2d.toml")?;
-    let s3 = Scene3::from_toml(IMPACT_3D, "verification/extrusion_impact_3d.toml", None)?;
+    let s2 = SceneFile::new("extrusion_impact_2d.toml").load()?;
+    let s3 = SceneFile::new("extrusion_impact_3d.toml").load3()?;
     let width = match s3.bodies[0].shape {
         Solid::Box { min, max } => max[2] - min[2],
         _ => bail!("the 3D beam must be a box"),
     };
-    compare_extrusion(&mut out, "impact", s2.build()?, s3.build()?, s2.solver.end_time, width)?;
+    compare_extrusion(&mut out, "impact", &mut s2.build()?, &mut s3.build()?, s2.solver.end_time, width, |_, _| {})?;
     Ok(out)
 }
 
 /// Run both to `end` and compare energies at every step (3D = width × 2D) and the final
-/// particle fields (every 3D particle against the 2D particle at the same x, y).
-fn compare_extrusion(out: &mut CaseOutput, label: &str, mut s2: Simulation, mut s3: Simulation<D3>, end: f64, width: f64) -> anyhow::Result<()> {
+/// particle fields (every 3D particle against the 2D particle at the same x, y);
+/// `after_step` sees both after every step (the crack cases compare their cracks there).
+pub(crate) fn compare_extrusion(
+    out: &mut CaseOutput,
+    label: &str,
+    s2: &mut Simulation,
+    s3: &mut Simulation<D3>,
+    end: f64,
+    width: f64,
+    mut after_step: impl FnMut(&Simulation, &Simulation<D3>),
+) -> anyhow::Result<()> {
     if s2.options.dt != s3.options.dt {
         bail!("{label}: the 2D and 3D time steps differ ({} vs {}); the scenes do not match", s2.options.dt, s3.options.dt);
     }
@@ -272,6 +271,7 @@ fn compare_extrusion(out: &mut CaseOutput, label: &str, mut s2: Simulation, mut 
     while s2.time + 0.5 * s2.options.dt < end {
         s2.step()?;
         s3.step()?;
+        after_step(s2, s3);
         let (e2, e3) = (s2.energies(), s3.energies());
         for (a, b) in [(e2.kinetic, e3.kinetic), (e2.strain, e3.strain)] {
             let scale = (e2.kinetic + e2.strain) * width;

@@ -25,9 +25,10 @@
 
 use super::{scheme_name, SCHEMES};
 use crate::report::plot::{PlotSpec, Series};
-use crate::scene::{Scene, Selection, ShapeSpec};
+use crate::scene::{Scene, ShapeSpec};
 use crate::shape::ShapeKind;
 use crate::simulation::Scheme;
+use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, SweepPoint, Variant};
 use anyhow::{bail, Context};
 use std::f64::consts::PI;
@@ -112,25 +113,30 @@ impl BarConfig {
 /// end time a whole number of exact periods, and the cell size, scheme, shape and
 /// particles per cell of `cfg`.
 pub fn bar_scene(cfg: &BarConfig) -> anyhow::Result<Scene> {
-    let mut s = Scene::from_toml(SCENE, "verification/vibrating_bar.toml")?;
-    let bar = Bar::of(&s)?;
-    if let Some(sine) = s.bodies[0].velocity_sine.as_mut() {
-        sine.k = [PI / (2.0 * bar.length), 0.0];
-    }
-    s.solver.scheme = cfg.scheme;
-    s.solver.shape = cfg.shape;
-    s.solver.particles_per_cell = cfg.ppc;
-    s.solver.end_time = cfg.periods * bar.period();
-    s.solver.checked = cfg.checked;
-    s.grid.cell = [cfg.cell, cfg.cell];
+    let file = SceneFile::new("vibrating_bar.toml");
+    let base = file.clone().load()?;
+    let bar = Bar::of(&base)?;
+    let mut file = file
+        .set("bodies.0.velocity_sine.k", format!("[{}, 0.0]", PI / (2.0 * bar.length)))
+        .set("solver.scheme", scheme_name(cfg.scheme))
+        .set("solver.shape", shape_name(cfg.shape))
+        .set("solver.particles_per_cell", cfg.ppc)
+        .set("solver.end_time", cfg.periods * bar.period())
+        .set("solver.checked", cfg.checked)
+        .set("grid.cell", format!("[{}, {}]", cfg.cell, cfg.cell));
     if cfg.fix_exterior {
-        s.boundary[0].nodes = Selection::Region {
-            min: [s.grid.origin[0], s.grid.origin[1]],
-            max: [0.0, s.grid.origin[1] + s.grid.size[1]],
-        };
+        let g = &base.grid;
+        file = file.set("boundary.0.nodes", format!("{{ region = {{ min = [{}, {}], max = [0.0, {}] }} }}", g.origin[0], g.origin[1], g.origin[1] + g.size[1]));
     }
-    s.validate()?;
-    Ok(s)
+    file.load()
+}
+
+/// The shape functions' name as in scene files.
+pub fn shape_name(s: ShapeKind) -> &'static str {
+    match s {
+        ShapeKind::Linear => "linear",
+        ShapeKind::Ugimp => "ugimp",
+    }
 }
 
 /// What one run of the bar measured.
