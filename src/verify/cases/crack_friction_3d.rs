@@ -12,12 +12,11 @@
 
 use super::cracks::{friction_closed_form, FrictionRun, FRICTION_END, FRICTION_RAMP};
 use crate::dim::{Vector3, D3};
-use crate::scene3d::{CrackSurface, Scene3, Selection3, Solid};
+use crate::scene3d::{CrackSurface, Scene3, Solid};
+use crate::verify::scene_file::SceneFile;
 use crate::simulation::Simulation;
 use crate::verify::{CaseOutput, Variant};
 use anyhow::{ensure, Context};
-
-pub const SCENE: &str = include_str!("../../../verification/crack_friction_3d.toml");
 
 /// Normal load (N) of the scene, and μ of its sliding run.
 pub const NORMAL_LOAD: f64 = 0.008;
@@ -38,28 +37,32 @@ pub fn centre(h: f64) -> Vector3 {
     Vector3::new(0.0, h / 8.0, 0.0)
 }
 
-/// The scene with cells of `h` mm, Coulomb coefficient `mu` and tangential force `f`: the
-/// file's geometry (written for h = 1) placed on the plane of [`centre`].
+/// The scene file with cells of `h` mm, Coulomb coefficient `mu` and tangential force
+/// `f`: `verification/crack_friction_3d.toml` (written for h = 1) with overrides placing
+/// its geometry on the plane of [`centre`], so `cramp run` of the exported file reproduces
+/// every run.
+pub fn scene_file(h: f64, mu: f64, f: f64) -> SceneFile {
+    let (n, t, p0) = (plane_normal(), sliding_direction(), centre(h));
+    let v = |v: Vector3| format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z);
+    SceneFile::new("crack_friction_3d.toml")
+        .set("grid.cell", format!("[{h:?}, {h:?}, {h:?}]"))
+        .set("bodies.0.shape.cylinder.from", v(p0))
+        .set("bodies.0.shape.cylinder.to", v(p0 + n * 3.0))
+        .set("bodies.1.shape.cylinder.from", v(p0 - n * 3.0))
+        .set("bodies.1.shape.cylinder.to", v(p0))
+        .set("boundary.0.nodes.plane.point", v(p0 + n * -11.5))
+        .set("loads.0.particles.plane.point", v(p0 + n * 2.0))
+        .set("loads.0.force", v(t * f - n * NORMAL_LOAD))
+        .set("cracks.0.surface.disc.center", v(p0))
+        .set("cracks.0.contact", if mu == 0.0 { "\"frictionless\"".to_string() } else { format!("{{ friction = {{ mu = {mu:?} }} }}") })
+}
+
+/// [`scene_file`], loaded and checked against the layout this case relies on.
 pub fn scene(h: f64, mu: f64, f: f64) -> anyhow::Result<Scene3> {
-    let mut s = Scene3::from_toml(SCENE, "verification/crack_friction_3d.toml", None)?;
+    let s = scene_file(h, mu, f).load3()?;
     ensure!(s.loads.len() == 1 && s.cracks.len() == 1 && s.bodies.len() == 2 && s.boundary.len() == 1, "unexpected scene layout");
     ensure!(s.loads[0].ramp == FRICTION_RAMP && s.solver.end_time == FRICTION_END, "ramp and end time must be those of crack_friction");
-    let (n, t, p0) = (plane_normal(), sliding_direction(), centre(h));
-    let a = |v: Vector3| [v.x, v.y, v.z];
-    s.grid.cell = [h, h, h];
-    let ends = [(p0, p0 + n * 3.0), (p0 - n * 3.0, p0)];
-    for (b, (from, to)) in s.bodies.iter_mut().zip(ends) {
-        let Solid::Cylinder { from: f0, to: t0, .. } = &mut b.shape else { anyhow::bail!("the bodies must be cylinders") };
-        (*f0, *t0) = (a(from), a(to));
-    }
-    let slab = |offset: f64, tolerance: f64| Selection3::Plane { point: a(p0 + n * offset), normal: [-1.0, 2.0, -1.0], tolerance: Some(tolerance) };
-    s.boundary[0].nodes = slab(-11.5, 10.0);
-    s.loads[0].particles = slab(2.0, 2.0);
-    let load = t * f - n * NORMAL_LOAD;
-    s.loads[0].force = a(load);
-    let CrackSurface::Disc { center, .. } = &mut s.cracks[0].surface else { anyhow::bail!("the crack must be a disc") };
-    *center = a(p0);
-    s.cracks[0].contact = crate::scene::ContactSpec::Friction { mu };
+    ensure!(matches!(s.bodies[0].shape, Solid::Cylinder { .. }) && matches!(s.cracks[0].surface, CrackSurface::Disc { .. }), "the bodies must be cylinders and the crack a disc");
     Ok(s)
 }
 
