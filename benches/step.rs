@@ -176,5 +176,40 @@ fn bench_step_3d(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_step, bench_step_3d);
+/// The 3D crack overhead (issue 15): dcb_perf_3d.toml with the 2D performance DCB's crack
+/// extruded — a rectangle on the grid plane y = 0 from x = 50 past the loaded end and both
+/// side faces (front x = 50 across the width), contact "none" as in dcb_perf.toml — against
+/// the same scene without it, the whole step after 50 steps, checked mode off (run with
+/// `RAYON_NUM_THREADS=1`); and the segment–surface field assignment of Task 1 alone, with
+/// throughput in particle–node pairs.
+fn bench_crack_3d(c: &mut Criterion) {
+    let path = format!("{}/verification/dcb_perf_3d.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let crack = "\n[[cracks]]\nsurface = { polygon = { points = [[50.0, 0.0, -1.0], [50.0, 0.0, 13.0], [102.0, 0.0, 13.0], [102.0, 0.0, -1.0]] } }\ncontact = \"none\"\n";
+    let warm3 = |text: &str| {
+        let mut sim = cramp::scene3d::Scene3::from_toml(text, "dcb_perf_3d", None).unwrap().build().unwrap();
+        sim.options.checked = false;
+        for _ in 0..50 {
+            sim.step().unwrap();
+        }
+        sim
+    };
+    let (cracked, plain) = (warm3(&format!("{text}{crack}")), warm3(&text));
+    let pairs: u64 = cracked.pairs.count.iter().map(|&n| n as u64).sum();
+    println!("3D crack: threads {}, {} particles, {} pairs, {} crack triangles", rayon::current_num_threads(), cracked.particles.len(), pairs, cracked.cracks[0].surface.triangles.len());
+    let mut g = quick(c, "whole_step_3d_crack");
+    g.throughput(Throughput::Elements(cracked.particles.len() as u64));
+    for (name, sim) in [("dcb_3d_crack", &cracked), ("dcb_3d_no_crack", &plain)] {
+        let mut s = sim.clone();
+        g.bench_function(name, |b| b.iter(|| s.step().unwrap()));
+    }
+    g.finish();
+    let mut g = quick(c, "crack_fields_3d");
+    g.throughput(Throughput::Elements(pairs));
+    let mut s = cracked.clone();
+    g.bench_function("field_assignment", |b| b.iter(|| s.bench_crack_fields().unwrap()));
+    g.finish();
+}
+
+criterion_group!(benches, bench_step, bench_step_3d, bench_crack_3d);
 criterion_main!(benches);

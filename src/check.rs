@@ -42,8 +42,8 @@ pub enum CheckError {
     TooManyFields3 { step: u64, ijk: [usize; 3], x: Vec<f64>, cracks: Vec<usize> },
     #[error("step {step}: particle {particle} (id {id}) sees no grid node that a crack does not hide (node visibility); it lies on a crack")]
     NoVisibleNode { step: u64, particle: usize, id: u32 },
-    #[error("step {step}: contact at node {node} changed total momentum from ({bx:.17e}, {by:.17e}) to ({ax:.17e}, {ay:.17e})")]
-    ContactMomentum { step: u64, node: usize, bx: f64, by: f64, ax: f64, ay: f64 },
+    #[error("step {step}: contact at node {node} changed its total momentum from {} to {} (tolerance {tol:.3e})", fmt_point(before, 17), fmt_point(after, 17))]
+    ContactMomentum { step: u64, node: usize, before: Vec<f64>, after: Vec<f64>, tol: f64 },
     #[error("step {step}: crack growth: {error}")]
     Growth { step: u64, error: crate::fracture::growth::GrowthError },
     #[error("step {step}: energy grew without bound (total {total:.6e} vs initial scale {scale:.6e}): the time step is probably above the stability limit; reduce `solver.cfl` or `solver.dt`")]

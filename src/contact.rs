@@ -17,6 +17,7 @@ use crate::crack::{ContactDetection, ContactLaw};
 #[cfg(test)]
 use crate::dim::Vector;
 use crate::dim::{GridGeometry, VectorOps};
+use crate::check::CheckError;
 use crate::simulation::{Dimension, Simulation};
 
 /// What contact needs to know of a crack, in 2D and 3D.
@@ -74,17 +75,20 @@ pub fn contact_impulse<V: VectorOps>(law: ContactLaw, dv: V, n: V, mred: f64, fo
 
 impl<S: Dimension> Simulation<S> {
     /// Contact on momenta extrapolated from the particles (Tasks 2 and 6c).
-    pub(crate) fn apply_contact_to_momenta(&mut self) {
-        self.contact_pass(false);
+    pub(crate) fn apply_contact_to_momenta(&mut self) -> Result<(), CheckError> {
+        self.contact_pass(false)
     }
 
     /// Contact on the momenta of Task 4, with the total forces back-computed so Task 5
     /// moves the particles consistently.
-    pub(crate) fn apply_contact_to_updated_momenta(&mut self) {
-        self.contact_pass(true);
+    pub(crate) fn apply_contact_to_updated_momenta(&mut self) -> Result<(), CheckError> {
+        self.contact_pass(true)
     }
 
-    fn contact_pass(&mut self, back_compute_forces: bool) {
+    /// One contact pass. Checked mode asserts that each node's total momentum is kept to
+    /// round-off: Δp and −Δp are added to its two fields, so (p_a + Δp) + (p_b − Δp)
+    /// differs from p_a + p_b by at most a few ulps of |p_a| + |p_b| + 2|Δp| (bound 4ε).
+    fn contact_pass(&mut self, back_compute_forces: bool) -> Result<(), CheckError> {
         let dt = self.options.dt;
         let cell = self.grid.cell_measure();
         let mut nodes = std::mem::take(&mut self.nodes);
@@ -126,12 +130,22 @@ impl<S: Dimension> Simulation<S> {
             };
             nodes.fields[a].mom[i] = pa + dp;
             nodes.fields[b].mom[i] = pb - dp;
+            if self.options.checked {
+                let (before, after) = (pa + pb, nodes.fields[a].mom[i] + nodes.fields[b].mom[i]);
+                let tol = 4.0 * f64::EPSILON * (pa.norm() + pb.norm() + 2.0 * dp.norm());
+                if !((after - before).norm() <= tol) && before.is_finite() && after.is_finite() {
+                    use crate::check::components;
+                    self.nodes = nodes;
+                    return Err(CheckError::ContactMomentum { step: self.step_count, node: i, before: components(&before), after: components(&after), tol });
+                }
+            }
             if back_compute_forces {
                 nodes.fields[a].ftot[i] += dp / dt;
                 nodes.fields[b].ftot[i] -= dp / dt;
             }
         }
         self.nodes = nodes;
+        Ok(())
     }
 }
 

@@ -876,7 +876,9 @@ impl Scene3 {
                     planar_polygon(&orient(clip(bnd, "surface.ellipse")?, n), edge).map_err(|e| invalid(f("surface.ellipse"), e))?
                 }
                 CrackSurface::Mesh { vertices, triangles } => {
-                    TriangleSurface::new(vertices.iter().map(|p| v3(*p)).collect(), triangles.clone()).map_err(|e| invalid(f("surface.mesh"), e))?
+                    let s = TriangleSurface::new(vertices.iter().map(|p| v3(*p)).collect(), triangles.clone()).map_err(|e| invalid(f("surface.mesh"), e))?;
+                    s.check_crack().map_err(|e| invalid(f("surface.mesh"), e))?;
+                    s
                 }
                 CrackSurface::Stl { file } => {
                     let path = match &self.base_dir {
@@ -884,7 +886,9 @@ impl Scene3 {
                         _ => PathBuf::from(file),
                     };
                     let (v, t) = crate::stl::read_triangles(&path).map_err(|e| invalid(f("surface.stl.file"), format!("{}: {e}", path.display())))?;
-                    TriangleSurface::new(v, t).map_err(|e| invalid(f("surface.stl.file"), format!("{}: {e}", path.display())))?
+                    let s = TriangleSurface::new(v, t).map_err(|e| invalid(f("surface.stl.file"), format!("{}: {e}", path.display())))?;
+                    s.check_crack().map_err(|e| invalid(f("surface.stl.file"), format!("{}: {e}", path.display())))?;
+                    s
                 }
             };
             if let Some((k, v)) = surface.vertices.iter().enumerate().find(|(_, v)| (0..3).any(|a| v[a] < glo[a] || v[a] > ghi[a])) {

@@ -29,9 +29,9 @@ pub trait Dimension: Space {
     /// Task 1 with cracks, after the gathers: nodal normals, field counts.
     fn finish_crack_nodes(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
     /// Contact on the momenta of Task 1 / Task 6c (Nairn 2003 eqs. 13–19).
-    fn contact_momenta(sim: &mut Simulation<Self>);
+    fn contact_momenta(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
     /// Contact on the momenta updated in Task 4, forces back-computed.
-    fn contact_updated_momenta(sim: &mut Simulation<Self>);
+    fn contact_updated_momenta(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
     /// Normal opening of crack c's tracked surfaces at node i (contact detection by
     /// opening), None without a crack segment near it.
     fn normal_gap(sim: &Simulation<Self>, c: usize, i: usize) -> Option<f64>;

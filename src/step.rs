@@ -74,7 +74,7 @@ impl<S: Dimension> Simulation<S> {
 
         self.task0_shape_functions()?;
         self.task1_extrapolate()?;
-        self.task2_boundary_conditions();
+        self.task2_boundary_conditions()?;
         match scheme {
             Scheme::Usf => self.update_stresses(dt),
             Scheme::Usavg => self.update_stresses(0.5 * dt),
@@ -90,11 +90,11 @@ impl<S: Dimension> Simulation<S> {
             Scheme::Usf => {}
             // Task 6c: re-extrapolate the new particle momenta, then update.
             Scheme::Musl => {
-                self.task6c_reextrapolate();
+                self.task6c_reextrapolate()?;
                 self.update_stresses(dt);
             }
             Scheme::Usavg => {
-                self.task6c_reextrapolate();
+                self.task6c_reextrapolate()?;
                 self.update_stresses(0.5 * dt);
             }
         }
@@ -318,11 +318,12 @@ impl<S: Dimension> Simulation<S> {
     }
 
     /// Task 2: boundary conditions on the nodal momenta of Task 1 (and, with cracks, contact).
-    fn task2_boundary_conditions(&mut self) {
+    fn task2_boundary_conditions(&mut self) -> Result<(), CheckError> {
         self.apply_momentum_bcs();
         if self.has_cracks() {
-            S::contact_momenta(self);
+            S::contact_momenta(self)?;
         }
+        Ok(())
     }
 
     /// Fixed velocity components: p_c = m v_c for every field of a constrained node.
@@ -459,7 +460,7 @@ impl<S: Dimension> Simulation<S> {
             }
         }
         if self.has_cracks() {
-            S::contact_updated_momenta(self);
+            S::contact_updated_momenta(self)?;
         }
         if check_momentum {
             let after = self.nodal_momentum_total();
@@ -546,7 +547,7 @@ impl<S: Dimension> Simulation<S> {
     /// Task 6c: extrapolate the new particle momenta to the grid with the shape functions
     /// and fields of Task 1 (eq. 31), then boundary conditions and contact. The per-node
     /// gathers run in parallel over the active nodes.
-    fn task6c_reextrapolate(&mut self) {
+    fn task6c_reextrapolate(&mut self) -> Result<(), CheckError> {
         let nf = self.nodes.fields.len();
         let mut sums = std::mem::take(&mut self.scratch.momentum);
         let this = &*self;
@@ -573,8 +574,9 @@ impl<S: Dimension> Simulation<S> {
         self.scratch.momentum = sums;
         self.apply_momentum_bcs();
         if self.has_cracks() {
-            S::contact_momenta(self);
+            S::contact_momenta(self)?;
         }
+        Ok(())
     }
 
     /// List the particles with a load or a body force (for the external work of Task 5).
@@ -1041,7 +1043,7 @@ impl<S: Dimension> Simulation<S> {
 
     /// Grid update: Tasks 2–4 (boundary conditions and contact, forces, momenta).
     pub fn bench_grid_update(&mut self) -> Result<(), CheckError> {
-        self.task2_boundary_conditions();
+        self.task2_boundary_conditions()?;
         self.task3_forces();
         self.task4_update_momenta()
     }
@@ -1062,7 +1064,7 @@ impl Simulation {
     }
 
     /// One contact pass over the nodes with two fields (cracks only).
-    pub fn bench_contact(&mut self) {
-        self.apply_contact_to_momenta();
+    pub fn bench_contact(&mut self) -> Result<(), CheckError> {
+        self.apply_contact_to_momenta()
     }
 }

@@ -114,5 +114,6 @@ golden_case!(
     spheres_3d,
     block_3d,
     extrusion_2d_3d,
-    cracked_spheres_3d
+    cracked_spheres_3d,
+    crack_friction_3d
 );

@@ -160,9 +160,115 @@ fn poisson_ratio_one_half_in_3d() {
 
 #[test]
 fn a_2d_crack_polyline_in_a_3d_scene() {
-    // A 3D crack is a surface (`surface = { polygon = ... }` and the other forms).
     let t = format!("{BASE}\n[[cracks]]\npoints = [[0.3, 0.4, 0.5], [0.6, 0.4, 0.5]]\n");
     expect_message(&t, &["points", "surface"]);
+}
+
+// ---- 3D cracks (issue 15, verification 6) ----------------------------------------------
+
+/// The base scene with one `[[cracks]]` table of the given body.
+fn with_crack(body: &str) -> String {
+    format!("{BASE}\n[[cracks]]\n{body}\n")
+}
+
+/// A valid crack: a rectangle on y = 0.4 through the body, past its sides.
+const GOOD_CRACK: &str = "surface = { polygon = { points = [[0.2, 0.4, 0.2], [0.2, 0.4, 0.8], [0.8, 0.4, 0.8], [0.8, 0.4, 0.2]] } }";
+
+#[test]
+fn base_scene_with_a_crack_builds() {
+    let Ok(AnyScene::D3(s)) = AnyScene::from_toml(&with_crack(GOOD_CRACK), "crack", None) else { panic!("a valid 3D scene") };
+    s.build().expect("the cracked base scene builds");
+}
+
+#[test]
+fn crack_mesh_inconsistently_oriented_names_the_triangle() {
+    let t = with_crack("surface = { mesh = { vertices = [[0.2, 0.4, 0.2], [0.2, 0.4, 0.8], [0.8, 0.4, 0.8], [0.8, 0.4, 0.2]], triangles = [[0, 1, 2], [0, 3, 2]] } }");
+    expect_invalid(&t, None, "cracks[0].surface.mesh", &["triangle 1", "triangle 0", "not consistently oriented"]);
+}
+
+#[test]
+fn self_intersecting_crack_mesh_names_both_triangles() {
+    // A horizontal triangle and a vertical one through it (no shared corner).
+    let t = with_crack(
+        "surface = { mesh = { vertices = [[0.3, 0.4, 0.3], [0.5, 0.4, 0.7], [0.7, 0.4, 0.3], \
+         [0.5, 0.3, 0.5], [0.4, 0.5, 0.5], [0.6, 0.5, 0.5]], triangles = [[0, 1, 2], [3, 4, 5]] } }",
+    );
+    expect_invalid(&t, None, "cracks[0].surface.mesh", &["triangles 0 and 1 intersect", "must not cut itself"]);
+    // Coplanar overlap: two triangles of the same plane, one across the other.
+    let t = with_crack(
+        "surface = { mesh = { vertices = [[0.3, 0.4, 0.3], [0.5, 0.4, 0.7], [0.7, 0.4, 0.3], \
+         [0.3, 0.4, 0.5], [0.5, 0.4, 0.35], [0.7, 0.4, 0.5]], triangles = [[0, 1, 2], [3, 4, 5]] } }",
+    );
+    expect_invalid(&t, None, "cracks[0].surface.mesh", &["triangles 0 and 1 intersect"]);
+}
+
+#[test]
+fn closed_crack_mesh_is_refused_and_says_why() {
+    // A tetrahedron, consistently oriented (outward normals): closed, so no front.
+    let t = with_crack(
+        "surface = { mesh = { vertices = [[0.3, 0.3, 0.3], [0.6, 0.3, 0.3], [0.3, 0.45, 0.3], [0.3, 0.3, 0.6]], \
+         triangles = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] } }",
+    );
+    expect_invalid(&t, None, "cracks[0].surface.mesh", &["closed surface", "no front", "its own body"]);
+}
+
+#[test]
+fn crack_point_outside_the_grid() {
+    let t = with_crack("surface = { polygon = { points = [[0.2, 0.4, 0.2], [0.2, 0.4, 0.8], [1.5, 0.4, 0.8], [0.8, 0.4, 0.2]] } }");
+    expect_invalid(&t, None, "cracks[0].surface", &["crack point", "outside the grid"]);
+}
+
+#[test]
+fn bad_crack_numbers() {
+    expect_invalid(&with_crack(&format!("{GOOD_CRACK}\nedge = 0.0")), None, "cracks[0].edge", &[]);
+    expect_invalid(&with_crack(&format!("{GOOD_CRACK}\nedge = -0.1")), None, "cracks[0].edge", &[]);
+    let disc = |c: &str, n: &str, r: &str| with_crack(&format!("surface = {{ disc = {{ center = {c}, normal = {n}, radius = {r} }} }}"));
+    expect_invalid(&disc("[0.5, 0.4, 0.5]", "[0.0, 1.0, 0.0]", "0.0"), None, "cracks[0].surface.disc.radius", &[]);
+    expect_invalid(&disc("[0.5, 0.4, 0.5]", "[0.0, 1.0, 0.0]", "-0.2"), None, "cracks[0].surface.disc.radius", &[]);
+    expect_invalid(&disc("[0.5, 0.4, 0.5]", "[0.0, 0.0, 0.0]", "0.2"), None, "cracks[0].surface.disc.normal", &["zero"]);
+    expect_invalid(&disc("[0.5, nan, 0.5]", "[0.0, 1.0, 0.0]", "0.2"), None, "cracks[0].surface.disc.center[1]", &["finite"]);
+    let t = with_crack("surface = { ellipse = { center = [0.5, 0.4, 0.5], normal = [0.0, 0.0, 0.0], axis = [1.0, 0.0, 0.0], a = 0.2, b = 0.1 } }");
+    expect_invalid(&t, None, "cracks[0].surface.ellipse.normal", &["zero"]);
+    let t = with_crack("surface = { ellipse = { center = [0.5, 0.4, 0.5], normal = [0.0, 1.0, 0.0], axis = [1.0, 0.0, 0.0], a = 0.2, b = 0.0 } }");
+    expect_invalid(&t, None, "cracks[0].surface.ellipse.b", &[]);
+}
+
+#[test]
+fn fracture_table_and_opening_detection_are_refused_in_3d() {
+    let t = with_crack(&format!("{GOOD_CRACK}\nfracture = {{ j_contour = 2 }}"));
+    expect_invalid(&t, None, "cracks[0].fracture", &["issue 16"]);
+    let t = with_crack(&format!("{GOOD_CRACK}\ndetection = \"opening\""));
+    expect_invalid(&t, None, "cracks[0].detection", &["volume"]);
+}
+
+#[test]
+fn unreadable_or_closed_stl_crack_files() {
+    let dir = common::temp_dir("three_d_bad_stl_crack");
+    let field = "cracks[0].surface.stl.file";
+    expect_invalid(&with_crack("surface = { stl = { file = \"nowhere.stl\" } }"), Some(&dir), field, &["nowhere.stl", "cannot open"]);
+    std::fs::write(dir.join("garbage.stl"), b"this is not an STL file at all").unwrap();
+    expect_invalid(&with_crack("surface = { stl = { file = \"garbage.stl\" } }"), Some(&dir), field, &["garbage.stl"]);
+    // A closed box as a crack: refused, with the reason.
+    write_both(&dir, "closed", &common::box_triangles([0.3, 0.3, 0.3], [0.6, 0.45, 0.6]));
+    for file in ["closed.stl", "closed_bin.stl"] {
+        expect_invalid(&with_crack(&format!("surface = {{ stl = {{ file = \"{file}\" }} }}")), Some(&dir), field, &[file, "closed surface", "no front"]);
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn two_cracks_splitting_one_node_stop_the_run_naming_the_node() {
+    // Two parallel cracks 0.03 apart inside one cell: a node beside both sees three
+    // kinds of particles (below both, between, above both), so needs three fields.
+    let crack = |y: f64| format!("surface = {{ polygon = {{ points = [[0.2, {y}, 0.2], [0.2, {y}, 0.8], [0.8, {y}, 0.8], [0.8, {y}, 0.2]] }} }}");
+    let t = format!("{BASE}\n[[cracks]]\n{}\n[[cracks]]\n{}\n", crack(0.33), crack(0.36));
+    let Ok(AnyScene::D3(s)) = AnyScene::from_toml(&t, "two cracks", None) else { panic!("a valid 3D scene") };
+    let mut sim = s.build().expect("builds");
+    let err = sim.step().expect_err("a node needs three fields").to_string();
+    println!("{err}");
+    for n in ["grid node (i, j, k) = (", ") at (", "more than two velocity fields", "cracks [0, 1]"] {
+        assert!(err.contains(n), "error does not contain {n:?}: {err}");
+    }
 }
 
 // ---- solids ---------------------------------------------------------------------------
@@ -355,6 +461,7 @@ fn binary_reports_bad_3d_scenes_without_panicking() {
     let cases: Vec<(&str, &str, String, Vec<&str>)> = vec![
         ("run", "two_components", edit("velocity = [0.0, 0.0, 0.0]", "velocity = [1.0, 2.0]"), vec!["bodies[0].velocity", "has 2 components"]),
         ("run", "state", edit("rho = 1.0", "rho = 1.0\nstate = \"plane_stress\""), vec!["materials[0].state"]),
+        ("run", "closed_crack", with_crack("surface = { mesh = { vertices = [[0.3, 0.3, 0.3], [0.6, 0.3, 0.3], [0.3, 0.45, 0.3], [0.3, 0.3, 0.6]], triangles = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] } }"), vec!["cracks[0].surface.mesh", "closed surface"]),
         ("run", "cracks", format!("{BASE}\n[[cracks]]\npoints = [[0.3, 0.4, 0.5], [0.6, 0.4, 0.5]]\n"), vec!["points", "surface"]),
         ("run", "missing_stl", stl_scene("missing.stl"), vec!["bodies[0].shape.stl.file", "missing.stl", "cannot open"]),
         ("run", "outside", with_shape("{ sphere = { center = [0.5, 0.4, 0.9], radius = 0.2 } }"), vec!["bodies[0].shape", "outside the grid"]),

@@ -41,6 +41,7 @@
 
 use crate::dim::Vector3;
 use robust::{orient3d, Coord3D};
+use rstar::{PointDistance, RTree, RTreeObject, AABB};
 
 /// Which side of the crack the particle is on, when the line to the node crosses it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -122,10 +123,11 @@ enum Verdict {
     NodeOn(i8),
 }
 
-fn triangle_verdict(s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3) -> Verdict {
+/// Triangle t's verdict for P → N, with `op` = P's exact side of t's plane
+/// ([`side_of_plane`], computed once per particle by the caller).
+fn triangle_verdict(s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3, op: i8) -> Verdict {
     let tri = s.triangles[t];
     let v = tri.map(|i| &s.points[i as usize]);
-    let op = side_of_plane(v[0], v[1], v[2], p);
     if op == 0 {
         return Verdict::Miss;
     }
@@ -196,7 +198,14 @@ impl Crossing3 {
     /// Add triangle t's verdict.
     #[inline]
     pub fn add(&mut self, s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3) {
-        match triangle_verdict(s, t, p, n) {
+        let v = s.triangles[t].map(|i| &s.points[i as usize]);
+        self.add_with_side(s, t, p, n, side_of_plane(v[0], v[1], v[2], p));
+    }
+
+    /// [`Self::add`] with P's side of t's plane already known (`op`, exact).
+    #[inline]
+    pub fn add_with_side(&mut self, s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3, op: i8) {
+        match triangle_verdict(s, t, p, n, op) {
             Verdict::Miss => {}
             Verdict::NodeOn(side) => {
                 if self.node_on.is_none_or(|(u, _)| t < u) {
@@ -254,6 +263,78 @@ pub struct TriangleIndex {
     range: Vec<[[u32; 3]; 2]>,
     /// Bounding box of each triangle (exact: minima and maxima of its corners).
     aabb: Vec<[Vector3; 2]>,
+    /// R*-tree of the triangles for nearest-triangle queries ([`Self::nearest`]).
+    tree: RTree<TriangleEntry>,
+    /// Bounding-box padding for conservative float tests ([`PAD`] of the extent).
+    pad: f64,
+}
+
+/// A triangle in the R*-tree: its index and corners. Its envelope is its bounding box
+/// padded by [`PAD`] of the surface's extent, so that the box distance is a lower bound
+/// of the *computed* distance to the triangle despite round-off, and the tree returns
+/// triangles in exact non-decreasing order of the distance [`closest_on_triangle`] gives.
+#[derive(Clone, Debug)]
+struct TriangleEntry {
+    t: u32,
+    corners: [Vector3; 3],
+    envelope: AABB<[f64; 3]>,
+}
+
+/// Envelope padding relative to the surface's extent (far above round-off in
+/// [`closest_on_triangle`], far below any distance a decision depends on).
+const PAD: f64 = 1e-9;
+
+impl RTreeObject for TriangleEntry {
+    type Envelope = AABB<[f64; 3]>;
+    fn envelope(&self) -> Self::Envelope {
+        self.envelope
+    }
+}
+
+impl PointDistance for TriangleEntry {
+    fn distance_2(&self, x: &[f64; 3]) -> f64 {
+        let x = Vector3::from(*x);
+        let [a, b, c] = &self.corners;
+        (x - closest_on_triangle(&x, a, b, c).0).norm_squared()
+    }
+}
+
+/// The point of triangle (a, b, c) closest to x (Ericson, Real-Time Collision Detection
+/// §5.1.5), with its barycentric coordinates.
+pub fn closest_on_triangle(x: &Vector3, a: &Vector3, b: &Vector3, c: &Vector3) -> (Vector3, [f64; 3]) {
+    let (ab, ac, ap) = (b - a, c - a, x - a);
+    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return (*a, [1.0, 0.0, 0.0]);
+    }
+    let bp = x - b;
+    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return (*b, [0.0, 1.0, 0.0]);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return (a + ab * v, [1.0 - v, v, 0.0]);
+    }
+    let cp = x - c;
+    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return (*c, [0.0, 0.0, 1.0]);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return (a + ac * w, [1.0 - w, 0.0, w]);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (b + (c - b) * w, [0.0, 1.0 - w, w]);
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let (v, w) = (vb * denom, vc * denom);
+    (a + ab * v + ac * w, [1.0 - v - w, v, w])
 }
 
 impl TriangleIndex {
@@ -293,6 +374,64 @@ impl TriangleIndex {
                 cursor[b] += 1;
             });
         }
+        let pad = PAD * (ext.amax() + lo.amax().max(hi.amax()));
+        self.pad = pad;
+        let entries = triangles
+            .iter()
+            .zip(&self.aabb)
+            .enumerate()
+            .map(|(t, (tri, [tl, th]))| TriangleEntry {
+                t: t as u32,
+                corners: tri.map(|i| points[i as usize]),
+                envelope: AABB::from_corners((tl - Vector3::repeat(pad)).into(), (th + Vector3::repeat(pad)).into()),
+            })
+            .collect();
+        self.tree = RTree::bulk_load(entries);
+    }
+
+    /// Whether the segment P → N may meet triangle t: false only when it misses the
+    /// triangle's bounding box padded by [`PAD`] (slab test; the padding exceeds the
+    /// test's round-off, so a segment that meets the closed triangle is never rejected).
+    #[inline]
+    pub fn segment_may_meet(&self, t: usize, p: &Vector3, n: &Vector3) -> bool {
+        let [lo, hi] = &self.aabb[t];
+        if (0..3).any(|c| p[c].max(n[c]) < lo[c] - self.pad || p[c].min(n[c]) > hi[c] + self.pad) {
+            return false;
+        }
+        let (mut s0, mut s1) = (0.0f64, 1.0f64);
+        for c in 0..3 {
+            let (l, h, d) = (lo[c] - self.pad, hi[c] + self.pad, n[c] - p[c]);
+            if d == 0.0 {
+                if p[c] < l || p[c] > h {
+                    return false;
+                }
+            } else {
+                let (a, b) = ((l - p[c]) / d, (h - p[c]) / d);
+                s0 = s0.max(a.min(b));
+                s1 = s1.min(a.max(b));
+                if s0 > s1 {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// The triangle nearest x within `reach` (ties: lowest index), with the barycentric
+    /// coordinates of its point nearest x — the exhaustive search's answer: the tree
+    /// returns triangles in non-decreasing computed distance (see [`TriangleEntry`]), so
+    /// the first one and any at the same distance are all the candidates.
+    pub fn nearest(&self, x: &Vector3, reach: f64) -> Option<(usize, [f64; 3])> {
+        let mut best: Option<(f64, u32, [Vector3; 3])> = None;
+        for (e, d) in self.tree.nearest_neighbor_iter_with_distance_2([x.x, x.y, x.z]) {
+            if d > reach * reach || best.is_some_and(|(bd, _, _)| d > bd) {
+                break;
+            }
+            if best.is_none_or(|(_, bt, _)| e.t < bt) {
+                best = Some((d, e.t, e.corners));
+            }
+        }
+        best.map(|(_, t, [a, b, c])| (t as usize, closest_on_triangle(x, &a, &b, &c).1))
     }
 
     /// Bucket coordinates of x, clamped to the grid of buckets.

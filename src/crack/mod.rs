@@ -283,10 +283,10 @@ impl crate::simulation::Dimension for crate::dim::D2 {
     fn finish_crack_nodes(sim: &mut Simulation) -> Result<(), CheckError> {
         sim.finish_crack_nodes()
     }
-    fn contact_momenta(sim: &mut Simulation) {
+    fn contact_momenta(sim: &mut Simulation) -> Result<(), CheckError> {
         sim.apply_contact_to_momenta()
     }
-    fn contact_updated_momenta(sim: &mut Simulation) {
+    fn contact_updated_momenta(sim: &mut Simulation) -> Result<(), CheckError> {
         sim.apply_contact_to_updated_momenta()
     }
     fn normal_gap(sim: &Simulation, c: usize, i: usize) -> Option<f64> {

@@ -100,10 +100,10 @@ impl crate::simulation::Dimension for D3 {
     fn finish_crack_nodes(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         finish_crack_nodes(sim)
     }
-    fn contact_momenta(sim: &mut Simulation<D3>) {
+    fn contact_momenta(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         sim.apply_contact_to_momenta()
     }
-    fn contact_updated_momenta(sim: &mut Simulation<D3>) {
+    fn contact_updated_momenta(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         sim.apply_contact_to_updated_momenta()
     }
     fn normal_gap(_: &Simulation<D3>, _: usize, _: usize) -> Option<f64> {
@@ -149,8 +149,9 @@ fn rebuild_indices(sim: &mut Simulation<D3>) {
 /// Task 1 with cracks: ν(p,i) for every pair by the exact crossing test, and the crack
 /// that split each node (the 2D [`Simulation::assign_velocity_fields`] with triangles).
 /// A particle whose reach (every node it can touch) misses every crack's bounding box
-/// costs one box test; a pair near a crack tests only the triangles the bucket index
-/// finds near its particle–node box.
+/// costs one box test; near a crack, the bucket index lists the triangles near the
+/// particle's reach once, with the particle's exact side of each plane, and each of its
+/// nodes tests only those whose (padded) box its segment passes through.
 fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     const STRIDE: usize = D3::MAX_NODES;
     rebuild_indices(sim);
@@ -170,31 +171,47 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         .into_par_iter()
         .with_min_len(crate::step::PARTICLE_CHUNK)
         .enumerate()
-        .map(|(i, (field, pair_crack))| {
+        .map_init(Vec::new, |candidates: &mut Vec<(u32, i8)>, (i, (field, pair_crack))| {
             let xp = p.x[i];
             let near = |e: &(Vector3, Vector3)| (0..3).all(|c| xp[c] + reach[c] >= e.0[c] && xp[c] - reach[c] <= e.1[c]);
             if !extents.iter().any(near) {
                 field.fill(0);
                 return false;
             }
+            field.fill(0);
             let mut split = false;
-            for k in 0..count[i] as usize {
-                let xn = grid.node_pos(node[i * STRIDE + k] as usize);
-                field[k] = 0;
-                let (lo, hi) = (xp.inf(&xn), xp.sup(&xn));
-                for (c, view) in views.iter().enumerate() {
-                    let e = &extents[c];
-                    if (0..3).any(|a| hi[a] < e.0[a] || lo[a] > e.1[a]) {
+            let nodes = &node[i * STRIDE..i * STRIDE + count[i] as usize];
+            for (c, view) in views.iter().enumerate() {
+                if !near(&extents[c]) {
+                    continue;
+                }
+                // The triangles near the particle's reach, each with the particle's exact
+                // side of its plane (computed once for all its nodes); in the plane: never
+                // a crossing (rule 1).
+                candidates.clear();
+                index[c].near(&(xp - reach), &(xp + reach), |t| {
+                    let v = view.triangles[t].map(|q| &view.points[q as usize]);
+                    let op = side_of_plane(v[0], v[1], v[2], &xp);
+                    if op != 0 {
+                        candidates.push((t as u32, op));
+                    }
+                });
+                for (k, &ni) in nodes.iter().enumerate() {
+                    if field[k] != 0 {
                         continue;
                     }
+                    let xn = grid.node_pos(ni as usize);
                     let mut acc = Crossing3::default();
-                    index[c].near(&lo, &hi, |t| acc.add(view, t, &xp, &xn));
+                    for &(t, op) in candidates.iter() {
+                        if index[c].segment_may_meet(t as usize, &xp, &xn) {
+                            acc.add_with_side(view, t as usize, &xp, &xn, op);
+                        }
+                    }
                     let side = acc.side();
                     if side != Side3::None {
                         field[k] = if side == Side3::Above { 1 } else { 2 };
                         pair_crack[k] = c as u16;
                         split = true;
-                        break;
                     }
                 }
             }
@@ -209,73 +226,12 @@ fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> Che
     CheckError::TooManyFields3 { step: sim.step_count, ijk: sim.grid.node_ijk(node), x: vec![x.x, x.y, x.z], cracks }
 }
 
-/// The point of triangle (a, b, c) closest to x (Ericson, Real-Time Collision Detection
-/// §5.1.5), with its barycentric coordinates.
-fn closest_on_triangle(x: &Vector3, a: &Vector3, b: &Vector3, c: &Vector3) -> (Vector3, [f64; 3]) {
-    let (ab, ac, ap) = (b - a, c - a, x - a);
-    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return (*a, [1.0, 0.0, 0.0]);
-    }
-    let bp = x - b;
-    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return (*b, [0.0, 1.0, 0.0]);
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return (a + ab * v, [1.0 - v, v, 0.0]);
-    }
-    let cp = x - c;
-    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return (*c, [0.0, 0.0, 1.0]);
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return (a + ac * w, [1.0 - w, 0.0, w]);
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (b + (c - b) * w, [0.0, 1.0 - w, w]);
-    }
-    let denom = 1.0 / (va + vb + vc);
-    let (v, w) = (vb * denom, vc * denom);
-    (a + ab * v + ac * w, [1.0 - v - w, v, w])
-}
-
-/// The triangle of `crack` nearest x within `reach` (ties: lowest index), with the
-/// barycentric coordinates of the nearest point. Searched in boxes of growing size
-/// (reach/4, reach/2, reach): a triangle found at distance d ≤ r in the box of half-size r
-/// is the nearest of all, since every triangle closer than d meets that box.
-fn nearest_triangle(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> Option<(usize, [f64; 3])> {
-    for r in [0.25 * reach, 0.5 * reach, reach] {
-        let rv = Vector3::repeat(r);
-        let mut best: Option<(f64, usize, [f64; 3])> = None;
-        index.near(&(x - rv), &(x + rv), |t| {
-            let [a, b, c] = crack.surface.triangles[t].map(|i| crack.surface.vertices[i as usize]);
-            let (q, bary) = closest_on_triangle(x, &a, &b, &c);
-            let d = (x - q).norm_squared();
-            if d <= r * r && best.is_none_or(|(bd, bt, _)| d < bd || (d == bd && t < bt)) {
-                best = Some((d, t, bary));
-            }
-        });
-        if let Some((_, t, b)) = best {
-            return Some((t, b));
-        }
-    }
-    None
-}
-
 /// +1 above, −1 below the crack near x, 0 unknown: the exact side of x relative to the
 /// plane of the nearest triangle within `reach`, unknown when there is none or the nearest
 /// point lies on the surface's boundary (beyond the front or an outer edge) — the 3D
 /// counterpart of the 2D `side_of` (a point whose projection falls inside a segment).
 fn side_of(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> i8 {
-    let Some((t, bary)) = nearest_triangle(crack, index, x, reach) else { return 0 };
+    let Some((t, bary)) = index.nearest(x, reach) else { return 0 };
     let tri = crack.surface.triangles[t];
     for k in 0..3 {
         // Edge k joins corners k and k + 1; the nearest point is on it when the opposite
@@ -307,7 +263,7 @@ fn finish_crack_nodes(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
             let c = sim.nodes.crack[i] as usize;
             let crack = &sim.cracks[c];
             let x = sim.grid.node_pos(i);
-            let t = nearest_triangle(crack, &sim.scratch.crack_index3[c], &x, reach).map_or(0, |(t, _)| t);
+            let t = sim.scratch.crack_index3[c].nearest(&x, reach).map_or(0, |(t, _)| t);
             sim.nodes.normal[i] = -crack.surface.normal(t).normalize();
         }
     }
@@ -440,4 +396,13 @@ fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         }
     }
     Ok(())
+}
+
+/// The 3D crack stage of Task 1 alone, for `benches/step.rs`.
+#[doc(hidden)]
+impl Simulation<D3> {
+    /// The segment–surface field assignment of Task 1 (cracks only).
+    pub fn bench_crack_fields(&mut self) -> Result<(), CheckError> {
+        assign_velocity_fields(self)
+    }
 }

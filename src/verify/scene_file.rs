@@ -26,6 +26,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("chen_cct.toml", include_str!("../../verification/chen_cct.toml")),
     ("colliding_spheres_3d.toml", include_str!("../../verification/colliding_spheres_3d.toml")),
     ("crack_friction.toml", include_str!("../../verification/crack_friction.toml")),
+    ("crack_friction_3d.toml", include_str!("../../verification/crack_friction_3d.toml")),
     ("crack_patch_3d_full.toml", include_str!("../../verification/crack_patch_3d_full.toml")),
     ("crack_patch_3d_half.toml", include_str!("../../verification/crack_patch_3d_half.toml")),
     ("crack_patch_full.toml", include_str!("../../verification/crack_patch_full.toml")),

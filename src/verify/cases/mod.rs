@@ -6,6 +6,7 @@ pub mod chen;
 pub mod colliding_disks;
 pub mod crack_patch;
 pub mod crack_patch_3d;
+pub mod crack_friction_3d;
 pub mod cracks;
 pub mod cracks_3d;
 pub mod fea;
@@ -31,6 +32,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "crack_patch_3d", run: crack_patch_3d::run },
     Case { name: "cracked_disks", run: cracks::run_disks },
     Case { name: "crack_friction", run: cracks::run_friction },
+    Case { name: "crack_friction_3d", run: crack_friction_3d::run },
     Case { name: "fea_patch", run: fea::run_patch },
     Case { name: "fea_cantilever", run: fea::run_cantilever },
     Case { name: "fea_dcb", run: fea::run_dcb },
