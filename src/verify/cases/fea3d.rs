@@ -121,7 +121,7 @@ pub fn run_penny(variant: Variant) -> anyhow::Result<CaseOutput> {
         out.note(format!(
             "a/h = {m} (h = {:.4} mm, {} equations, {:.1} s): σ = F/section = {:.3} MPa, R_eff = {:.3} mm; opening region {:.2} mm² \
              (quarter disc {:.2}); whole-front average (3-cell domain): a_eff = {:.4} mm, G = {:.5e}, Sneddon × cylinder factor \
-             {:.4} at a_eff/R_eff = {:.4}: {:.5e} ({:+.2} %); against the nominal a = 10: {:+.2} %; 2-cell domain {:+.3} % from the 3-cell one",
+             {:.4} at a_eff/R_eff = {:.4}: {:.5e} ({:+.2} %); J̄ against Sneddon's for the nominal a = 10 (J̄ ∝ G a): {:+.2} %; 2-cell domain {:+.3} % from the 3-cell one",
             p.h,
             p.equations,
             p.fea_seconds,
@@ -147,7 +147,7 @@ pub fn run_penny(variant: Variant) -> anyhow::Result<CaseOutput> {
             line.push((s.theta.to_degrees(), r));
         }
         out.note(format!(
-            "a/h = {m}, stations every 22.5° (hats of ±22.5°, 3-cell domain): G/G_ref(a_eff) = {} — largest deviation {:.1} % (reported, not checked: the staircase front, see the case notes)",
+            "a/h = {m}, stations every 22.5° (hats of ±22.5°, 3-cell domain): G/G_ref(a_eff) = {} — largest deviation {:.1} % (reported, not checked: the staircase front, docs/verification.md)",
             line.iter().map(|(t, r)| format!("{r:.3} at {t}°")).collect::<Vec<_>>().join(", "),
             100.0 * worst
         ));
