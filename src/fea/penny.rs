@@ -46,7 +46,6 @@ use super::crack3::domain_integral;
 use super::scene3::{FeaAnalysis3, SceneFea3};
 use super::{FeaError, Result};
 use crate::dim::Vector3;
-use std::collections::BTreeSet;
 use std::f64::consts::FRAC_PI_2;
 
 /// J at one station of the front.
@@ -214,9 +213,4 @@ pub fn front_g(
         out.push(FrontStation { theta, half_width, cells, g: 2.0 * jbar / swept, a_eff: swept / psi_int, jbar, swept });
     }
     Ok(out)
-}
-
-/// The mesh nodes of `front`'s staircase (sorted).
-pub fn staircase_nodes(front: &DiscreteFront) -> BTreeSet<usize> {
-    front.edges.iter().flat_map(|&(a, b, _)| [a, b]).collect()
 }
