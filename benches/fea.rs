@@ -1,6 +1,18 @@
 //! Timing of the static Q4 FEA: assembly, Cholesky factorisation (symbolic + numeric)
 //! and triangular solves, on a plain n × n square mesh (bottom edge clamped, uniform
-//! traction on the top edge, plane strain).
+//! traction on the top edge, plane strain); and of the hex8 FEA on an n × n × n cube
+//! (bottom face clamped, uniform load on the top face), with the peak memory.
+//!
+//! * 3D ~1e5 DOFs (32³ cells, 104 544 free DOFs, 4.0e6 stored non-zeros): criterion, 10
+//!   samples; the group runs first so that its peak resident memory (VmHWM) is its own.
+//!   Measured on the shared 2-core machine (load ~10): assemble 1.43 s, factorise 23.8 s,
+//!   solve 0.19 s, peak 1.78 GiB.
+//! * 3D ~1e6 DOFs (69³ cells, ~1.0e6 free DOFs): not run by default. The Cholesky fill of a
+//!   3D grid grows like n^(4/3) (nested dissection) to n^(5/3) (measured on the penny
+//!   meshes of `fea_penny_3d`: 4.5e4 equations 0.6 GiB, 1.4e5 3.3 GiB, 3.0e5 more than
+//!   12 GiB), so 1e6 DOFs need 40–80 GiB: past the 24 GiB of the development machine, which
+//!   ends near 5–7e5 equations (a cube of 55–62 cells a side). CRAMP_FEA3D_BENCH_1E6=1 runs
+//!   it anyway.
 //!
 //! * ~1e5 DOFs (224 × 224 cells, 100 800 free DOFs): criterion, 10 samples.
 //! * ~1e6 DOFs (707 × 707 cells, 1 001 112 free DOFs): criterion, 10 samples (the
@@ -79,5 +91,64 @@ fn bench_1e6(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_1e5, bench_1e6);
+/// The hex8 cube: n³ cells of unit size, bottom face clamped, unit nodal loads in z on the top face.
+fn cube(n: usize) -> (cramp::fea::mesh3::GridMesh3, BoundaryConditions) {
+    use cramp::dim::Vector3;
+    use cramp::grid::Grid3;
+    let grid = Grid3 { origin: Vector3::zeros(), h: Vector3::repeat(1.0), n: [n, n, n] };
+    let gm = cramp::fea::mesh3::GridMesh3::from_grid(grid, |_| true).unwrap();
+    let mut b = BoundaryConditions::for_nodes(gm.mesh.n_nodes(), 3);
+    for (a, ijk) in gm.node_grid.iter().enumerate() {
+        if ijk[2] == 0 {
+            for c in 0..3 {
+                b.prescribe(a, c, 0.0).unwrap();
+            }
+        } else if ijk[2] == n {
+            b.add_load(a, &[0.0, 0.0, 1.0]).unwrap();
+        }
+    }
+    (gm, b)
+}
+
+fn bench_3d(c: &mut Criterion, n: usize, group: &str) {
+    use cramp::fea::solve3::{assemble_3d, Model3};
+    let (gm, b) = cube(n);
+    let model = Model3::new(&gm.mesh, LinearElastic::solid(1000.0, 0.3, 1.0)).unwrap();
+    let t = Instant::now();
+    let sys = assemble_3d(&model, &b).unwrap();
+    let t_asm = t.elapsed();
+    let t = Instant::now();
+    let fac = sys.factorize().unwrap();
+    let t_fac = t.elapsed();
+    let t = Instant::now();
+    black_box(fac.solve(&sys.rhs));
+    println!(
+        "{group}: {} equations, {} stored nonzeros (lower K_ff); first run: assemble {:.2} s, factorize {:.2} s, solve {:.3} s; \
+         peak resident memory {:.2} GiB",
+        sys.n_equations(),
+        sys.k.compute_nnz(),
+        t_asm.as_secs_f64(),
+        t_fac.as_secs_f64(),
+        t.elapsed().as_secs_f64(),
+        cramp::fea::run3::peak_memory_bytes().unwrap_or(0) as f64 / (1u64 << 30) as f64
+    );
+    let mut g = c.benchmark_group(group);
+    g.sample_size(10).measurement_time(Duration::from_secs(10)).warm_up_time(Duration::from_millis(1));
+    g.bench_function("assemble", |bch| bch.iter(|| black_box(assemble_3d(&model, &b).unwrap())));
+    g.bench_function("factorize", |bch| bch.iter(|| black_box(sys.factorize().unwrap())));
+    g.bench_function("solve", |bch| bch.iter(|| black_box(fac.solve(&sys.rhs))));
+    g.finish();
+}
+
+fn bench_3d_1e5(c: &mut Criterion) {
+    bench_3d(c, 32, "fea3d_1e5_dofs");
+}
+
+fn bench_3d_1e6(c: &mut Criterion) {
+    if std::env::var("CRAMP_FEA3D_BENCH_1E6").as_deref() == Ok("1") {
+        bench_3d(c, 69, "fea3d_1e6_dofs");
+    }
+}
+
+criterion_group!(benches, bench_3d_1e5, bench_3d_1e6, bench_1e5, bench_1e6);
 criterion_main!(benches);

@@ -164,6 +164,11 @@ pub enum Selection3 {
     Plane { point: [f64; 3], normal: [f64; 3], tolerance: Option<f64> },
     /// Points within a quarter cell of the segment.
     Line { from: [f64; 3], to: [f64; 3] },
+    /// Points within `tolerance` (default a quarter of the smallest cell) of the plane
+    /// through `center` with normal `normal` whose distance from `center` lies in
+    /// [inner_radius, outer_radius] (inclusive to round-off): e.g. the ligament of a penny
+    /// crack's symmetry plane, the plane outside the crack disc.
+    Annulus { center: [f64; 3], normal: [f64; 3], inner_radius: f64, outer_radius: f64, tolerance: Option<f64> },
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -403,7 +408,7 @@ impl Selection3 {
     pub(crate) fn tolerance(&self, h: f64) -> f64 {
         match self {
             Selection3::Box { .. } => 1e-9 * h,
-            Selection3::Plane { tolerance, .. } => tolerance.unwrap_or(0.25 * h),
+            Selection3::Plane { tolerance, .. } | Selection3::Annulus { tolerance, .. } => tolerance.unwrap_or(0.25 * h),
             Selection3::Line { .. } => 0.25 * h,
         }
     }
@@ -421,6 +426,14 @@ impl Selection3 {
                 let l2 = d.norm_squared();
                 let t = if l2 > 0.0 { ((x - a).dot(&d) / l2).clamp(0.0, 1.0) } else { 0.0 };
                 (x - (a + d * t)).norm() <= tol
+            }
+            Selection3::Annulus { center, normal, inner_radius, outer_radius, .. } => {
+                let n = v3(*normal) / v3(*normal).norm();
+                let d = x - v3(*center);
+                let along = d.dot(&n);
+                let rho = (d - n * along).norm();
+                let round_off = 1e-9 * outer_radius.abs().max(1.0);
+                along.abs() <= tol && rho >= inner_radius - round_off && rho <= outer_radius + round_off
             }
         }
     }
@@ -447,6 +460,22 @@ impl Selection3 {
             Selection3::Line { from, to } => {
                 finite3(&format!("{field}.line.from"), from)?;
                 finite3(&format!("{field}.line.to"), to)?;
+            }
+            Selection3::Annulus { center, normal, inner_radius, outer_radius, tolerance } => {
+                finite3(&format!("{field}.annulus.center"), center)?;
+                finite3(&format!("{field}.annulus.normal"), normal)?;
+                if v3(*normal).norm() == 0.0 {
+                    return Err(invalid(format!("{field}.annulus.normal"), "is the zero vector"));
+                }
+                if !(inner_radius.is_finite() && *inner_radius >= 0.0) {
+                    return Err(invalid(format!("{field}.annulus.inner_radius"), format!("must be a finite number ≥ 0, got {inner_radius}")));
+                }
+                if !(outer_radius.is_finite() && outer_radius > inner_radius) {
+                    return Err(invalid(format!("{field}.annulus.outer_radius"), format!("must be finite and above inner_radius ({inner_radius}), got {outer_radius}")));
+                }
+                if let Some(t) = tolerance {
+                    positive(&format!("{field}.annulus.tolerance"), *t)?;
+                }
             }
         }
         Ok(())

@@ -234,25 +234,47 @@ shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [4.0, 2.0, 2.0] }} }}
 
 #[test]
 fn supports_that_leave_a_rigid_motion_free_are_errors_naming_it() {
+    // Each support below leaves rigid motions free; a load that does work on one of them has
+    // no static solution: an error naming the motion.
+    let load = |f: &str| format!("[[loads]]\nparticles = {{ plane = {{ point = [3.75, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }} }}\nforce = {f}");
     // Rollers vx = 0 on x = 0 only: translation in y and z and rotation about x are free.
-    let e = err(&block("[[boundary]]\nnodes = { plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] } }\nvx = 0.0"));
-    assert!(e.contains("boundary") && e.contains("not held against rigid motion") && e.contains("bodies[0]"), "{e}");
+    let e = err(&block(&format!("[[boundary]]\nnodes = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }} }}\nvx = 0.0\n{}", load("[0.0, 1.0, 0.0]"))));
+    assert!(e.contains("boundary") && e.contains("not held against rigid motion") && e.contains("bodies[0]") && e.contains("loads do work"), "{e}");
     // Pinned along the z-axis line through (0, 0): rotation about that axis is free.
-    let e = err(&block("[[boundary]]\nnodes = { line = { from = [0.0, 0.0, 0.0], to = [0.0, 0.0, 2.0] } }\nvx = 0.0\nvy = 0.0\nvz = 0.0"));
+    let e = err(&block(&format!("[[boundary]]\nnodes = {{ line = {{ from = [0.0, 0.0, 0.0], to = [0.0, 0.0, 2.0] }} }}\nvx = 0.0\nvy = 0.0\nvz = 0.0\n{}", load("[0.0, 1.0, 0.0]"))));
     assert!(e.contains("rotation about the axis along z through (0.000000, 0.000000"), "{e}");
     // Fixed face x = 0 in x and y only: translation in z is free.
-    let e = err(&block("[[boundary]]\nnodes = { plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] } }\nvx = 0.0\nvy = 0.0"));
+    let e = err(&block(&format!("[[boundary]]\nnodes = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }} }}\nvx = 0.0\nvy = 0.0\n{}", load("[0.0, 0.0, 1.0]"))));
     assert!(e.contains("translation in z"), "{e}");
     // Non-zero fixed velocity.
     let e = err(&block("[[boundary]]\nnodes = { plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] } }\nvz = 0.5"));
     assert!(e.contains("boundary[0].vz") && e.contains("non-zero fixed velocity"), "{e}");
     // No support, unbalanced load.
-    let e = err(&block("[[loads]]\nparticles = { plane = { point = [3.75, 0.0, 0.0], normal = [1.0, 0.0, 0.0] } }\nforce = [0.0, 1.0, 0.0]"));
+    let e = err(&block(&load("[0.0, 1.0, 0.0]")));
     assert!(e.contains("no support") && e.contains("not in equilibrium"), "{e}");
     // A fully clamped face is accepted.
     let ok = block("[[boundary]]\nnodes = { plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] } }\nvx = 0.0\nvy = 0.0\nvz = 0.0");
     let AnyScene::D3(s) = AnyScene::from_toml(&ok, "test scene", None).unwrap() else { panic!() };
     SceneFea3::from_scene(&s).unwrap().analyse().unwrap();
+}
+
+#[test]
+fn supports_that_leave_unloaded_rigid_motions_free_get_zero_reaction_supports() {
+    // Rollers vz = 0 on both z faces of the 3D crack-patch DCB leave translation in x and y
+    // and rotation about z free; its end loads are in equilibrium, so they do no work on
+    // them. The FEA adds supports that stop exactly those three motions, with zero reactions.
+    let s = scene3("cracks_2d_3d_dcb_3d.toml");
+    let fea = SceneFea3::from_scene(&s).unwrap();
+    assert_eq!(fea.auto_supports.len(), 3, "{:?}", fea.auto_supports);
+    assert!(fea.notes.iter().any(|n| n.contains("leave 3 rigid motion(s) free")), "{:?}", fea.notes);
+    let an = fea.analyse().unwrap();
+    let scale = s.loads[0].force[1].abs();
+    assert!(an.max_auto_reaction < 1e-9 * scale, "added supports carry {:e}", an.max_auto_reaction);
+    // Loads doing work on a free motion are still an error (a net x force here).
+    let mut bad = s.clone();
+    bad.loads[0].force[0] = 1e-3;
+    let e = SceneFea3::from_scene(&bad).unwrap_err().to_string();
+    assert!(e.contains("loads do work on it"), "{e}");
 }
 
 #[test]

@@ -35,7 +35,7 @@ use super::hex8::{self, GAUSS};
 use super::mesh3::GridMesh3;
 use super::solve3::{Model3, Solution3};
 use super::{FeaError, Result};
-use crate::dim::{Sym3, Vector3};
+use crate::dim::Vector3;
 use nalgebra::Matrix3;
 use std::collections::BTreeSet;
 
@@ -278,38 +278,16 @@ pub fn j_front(gm: &GridMesh3, model: &Model3, sol: &Solution3, crack: &MeshedCr
     }
     let material = model.material(cells_in[0]);
     let rot = Matrix3::from_rows(&[e1.transpose(), e2.transpose(), e3.transpose()]);
-    let q_node = |a: usize| -> f64 {
+    let q_node = |a: usize| -> Vector3 {
         let d = gm.node_grid[a].map(|v| v as isize);
         let (d1, d2, d3) = (d[a1] - fi[a1], d[axis] - fi[axis], d[a3] - fi[a3]);
         if d1.abs().max(d2.abs()) <= n && d3.abs() == 0 {
-            1.0
+            e1
         } else {
-            0.0
+            Vector3::zeros()
         }
     };
-    let mut jbar = 0.0;
-    for &e in &cells_in {
-        let conn = gm.mesh.elements[e];
-        let q = conn.map(q_node);
-        if q.iter().all(|&v| v == 0.0) {
-            continue;
-        }
-        let x = gm.mesh.element_coords(e);
-        let u = conn.map(|a| sol.displacement[a]);
-        for (gp, xi) in GAUSS.iter().enumerate() {
-            let p = hex8::point_data(&x, *xi).map_err(|det_j| FeaError::BadElement { element: e, gauss: gp, det_j })?;
-            let dq = (0..8).fold(Vector3::zeros(), |s, a| s + p.grad_n[a] * q[a]);
-            let h = hex8::displacement_gradient(&p.grad_n, &u);
-            let s: Sym3 = sol.gauss_stress[e][gp];
-            let sig = Matrix3::new(s.xx, s.xy, s.xz, s.xy, s.yy, s.yz, s.xz, s.yz, s.zz);
-            let dq_l = rot * dq;
-            let sig_l = rot * sig * rot.transpose();
-            let h_l = rot * h * rot.transpose();
-            let du1 = h_l.column(0).into_owned();
-            let w = 0.5 * crate::dim::SymOps::ddot(&s, &sol.gauss_strain[e][gp]);
-            jbar += (dq_l.dot(&(sig_l * du1)) - w * dq_l.x) * p.det_j;
-        }
-    }
+    let jbar = domain_integral(gm, sol, &cells_in, q_node)?;
     let j = jbar / psi_len;
     // Crack-face jump one cell behind the front node.
     let mut behind = f.grid_node;
@@ -326,4 +304,41 @@ pub fn j_front(gm: &GridMesh3, model: &Model3, sol: &Solution3, crack: &MeshedCr
     let (r2, r3) = if cod.y != 0.0 { (cod.x / cod.y, (1.0 - nu) * cod.z / cod.y) } else { (0.0, 0.0) };
     let k_i = cod.y.signum() * (jp * e / ((1.0 - nu * nu) * (1.0 + r2 * r2) + (1.0 + nu) * r3 * r3)).sqrt();
     Ok(FrontJ { cells, j, k_i, k_ii: r2 * k_i, k_iii: r3 * k_i, cod: [cod.x, cod.y, cod.z] })
+}
+
+/// The 3D equivalent domain integral for a virtual crack extension given as a vector at
+/// every mesh node (Shih, Moran & Nakamura 1986, eq. 21, with the extension direction
+/// inside q; deLorenzi 1982): q interpolated with the hex8 shape functions,
+///
+/// J̄ = ∫_V (σ_ij ∂u_i/∂x_k − W δ_jk) ∂q_k/∂x_j dV,
+///
+/// summed with the 2×2×2 Gauss rule over `elements` (every element where q is not
+/// identically 0 must be in the list). For the FE fields this is the derivative of the
+/// discrete potential energy with respect to moving the nodes by q (deLorenzi's
+/// equivalence), so J̄ = ∫ G(s) q(s)·ν(s) ds along the front when q vanishes on the outer
+/// boundary of the domain, is tangent to every symmetry plane and the crack faces in the
+/// domain carry no traction. No body force, crack-face traction or thermal strain.
+pub fn domain_integral(gm: &GridMesh3, sol: &Solution3, elements: &[usize], q_node: impl Fn(usize) -> Vector3) -> Result<f64> {
+    let mut jbar = 0.0;
+    for &e in elements {
+        let conn = gm.mesh.elements[e];
+        let q = conn.map(&q_node);
+        if q.iter().all(|v| *v == Vector3::zeros()) {
+            continue;
+        }
+        let x = gm.mesh.element_coords(e);
+        let u = conn.map(|a| sol.displacement[a]);
+        for (gp, xi) in GAUSS.iter().enumerate() {
+            let p = hex8::point_data(&x, *xi).map_err(|det_j| FeaError::BadElement { element: e, gauss: gp, det_j })?;
+            // grad_q[(k, j)] = ∂q_k/∂x_j, h[(i, k)] = ∂u_i/∂x_k.
+            let grad_q = (0..8).fold(Matrix3::zeros(), |s, a| s + q[a] * p.grad_n[a].transpose());
+            let h = hex8::displacement_gradient(&p.grad_n, &u);
+            let s = sol.gauss_stress[e][gp];
+            let sig = Matrix3::new(s.xx, s.xy, s.xz, s.xy, s.yy, s.yz, s.xz, s.yz, s.zz);
+            let w = 0.5 * crate::dim::SymOps::ddot(&s, &sol.gauss_strain[e][gp]);
+            // σ_ij u_i,k q_k,j = tr(σ H grad_q) (σ symmetric); W δ_jk q_k,j = W tr(grad_q).
+            jbar += ((sig * h * grad_q).trace() - w * grad_q.trace()) * p.det_j;
+        }
+    }
+    Ok(jbar)
 }

@@ -46,6 +46,7 @@
 //!   CMES 4 (2003) 649–663.
 
 pub mod compare;
+pub mod compare3;
 pub mod crack;
 pub mod crack3;
 pub mod element;
@@ -55,6 +56,7 @@ pub mod mesh;
 pub mod mesh3;
 pub mod output;
 pub mod output3;
+pub mod penny;
 pub mod run;
 pub mod run3;
 pub mod scene;

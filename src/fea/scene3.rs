@@ -117,20 +117,21 @@ fn axis_name(v: &Vector3) -> String {
     format!("({:.4}, {:.4}, {:.4})", v.x / n, v.y / n, v.z / n)
 }
 
+/// Row of prescribed DOF (x, component c) in the rigid modes (translations x, y, z,
+/// rotations about x, y, z through `centre`, scaled by `size`): component c of t + ω × d.
+fn rigid_row(x: &Vector3, c: usize, centre: Vector3, size: f64) -> [f64; 6] {
+    let d = (x - centre) / size;
+    let mut row = [0.0; 6];
+    row[c] = 1.0;
+    let rot = [Vector3::x(), Vector3::y(), Vector3::z()].map(|w| w.cross(&d)[c]);
+    row[3..].copy_from_slice(&rot);
+    row
+}
+
 /// The rigid motion left free by the prescribed DOFs `fixed` of a piece, in words, or
-/// `None` if the piece is held (modes: translations x, y, z, rotations about x, y, z
-/// through `centre`, scaled by `size`; [`free_rigid_mode`]).
+/// `None` if the piece is held ([`free_rigid_mode`]).
 fn free_motion(fixed: &[(usize, usize)], x: &[Vector3], centre: Vector3, size: f64) -> Option<String> {
-    let rows = fixed.iter().map(|&(a, c)| {
-        let d = (x[a] - centre) / size;
-        // Component c of t + ω × d.
-        let mut row = [0.0; 6];
-        row[c] = 1.0;
-        let rot = [Vector3::x(), Vector3::y(), Vector3::z()].map(|w| w.cross(&d)[c]);
-        row[3..].copy_from_slice(&rot);
-        row
-    });
-    let v = free_rigid_mode(rows)?;
+    let v = free_rigid_mode(fixed.iter().map(|&(a, c)| rigid_row(&x[a], c, centre, size)))?;
     let t = Vector3::new(v[0], v[1], v[2]);
     let omega = Vector3::new(v[3], v[4], v[5]) / size;
     Some(if omega.norm() * size < 1e-6 * t.norm() {
@@ -140,6 +141,18 @@ fn free_motion(fixed: &[(usize, usize)], x: &[Vector3], centre: Vector3, size: f
         let p = (centre + omega.cross(&t) / omega.norm_squared()).map(|v| if v.abs() < 1e-9 * size { 0.0 } else { v });
         format!("rotation about the axis along {} through ({:.6}, {:.6}, {:.6})", axis_name(&omega), p.x, p.y, p.z)
     })
+}
+
+/// Every rigid mode the rows leave free (an orthonormal basis of the null space of their
+/// Gram matrix, eigenvalues below 1e-9 of the largest; all six for no rows).
+fn free_modes(rows: &[[f64; 6]]) -> Vec<nalgebra::Vector6<f64>> {
+    let gram = rows.iter().fold(nalgebra::Matrix6::<f64>::zeros(), |g, r| {
+        let r = nalgebra::Vector6::from_column_slice(r);
+        g + r * r.transpose()
+    });
+    let eig = gram.symmetric_eigen();
+    let max = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
+    (0..6).filter(|&k| max == 0.0 || eig.eigenvalues[k] <= 1e-9 * max).map(|k| eig.eigenvectors.column(k).into_owned()).collect()
 }
 
 impl SceneFea3 {
@@ -255,17 +268,55 @@ impl SceneFea3 {
             let fixed = fixed_dofs(&bcs);
             let here = format!("the piece of bodies[{body}] around ({:.6}, {:.6}, {:.6})", centre.x, centre.y, centre.z);
             if !fixed.is_empty() {
-                if let Some(motion) = free_motion(&fixed, &mesh.nodes, centre, size) {
+                let Some(motion) = free_motion(&fixed, &mesh.nodes, centre, size) else { continue };
+                // Supports that leave rigid motions free: a static solution exists if the loads
+                // do no work on any of them (then it is unique up to them), and the FEA adds
+                // supports that stop exactly those motions (zero reactions); otherwise an error.
+                let mut rows: Vec<[f64; 6]> = fixed.iter().map(|&(a, c)| rigid_row(&x(a), c, centre, size)).collect();
+                let magnitude: f64 = nodes.iter().map(|&a| f(a).norm()).sum();
+                let work = |v: &nalgebra::Vector6<f64>| -> f64 {
+                    nodes.iter().map(|&a| (0..3).map(|c| f(a)[c] * nalgebra::Vector6::from_column_slice(&rigid_row(&x(a), c, centre, size)).dot(v)).sum::<f64>()).sum()
+                };
+                let mut modes = free_modes(&rows);
+                let n_free = modes.len();
+                if modes.iter().any(|v| work(v).abs() > EQUILIBRIUM_TOL * magnitude) {
                     return Err(scene_err(
                         "boundary",
                         format!(
                             "{here} is not held against rigid motion: its supports (vx = 0 / vy = 0 / vz = 0 on {} node \
-                             component(s)) leave a rigid {motion} free, so the static problem has no unique solution; add \
-                             [[boundary]] conditions that stop it",
+                             component(s)) leave a rigid {motion} free and its loads do work on it, so the static problem \
+                             has no solution; add [[boundary]] conditions that stop it",
                             fixed.len()
                         ),
                     ));
                 }
+                // Candidates farthest from the centre first (well-conditioned supports), then node order.
+                let mut candidates: Vec<usize> = nodes.clone();
+                candidates.sort_by(|&u, &v| (x(v) - centre).norm().total_cmp(&(x(u) - centre).norm()).then(u.cmp(&v)));
+                let mut added = 0;
+                'fill: for &a in &candidates {
+                    for c in 0..3 {
+                        if bcs.prescribed()[3 * a + c].is_some() {
+                            continue;
+                        }
+                        let r = nalgebra::Vector6::from_column_slice(&rigid_row(&x(a), c, centre, size));
+                        if modes.iter().map(|v| r.dot(v).powi(2)).sum::<f64>().sqrt() > 1e-3 * r.norm() {
+                            bcs.prescribe(a, c, 0.0)?;
+                            auto_supports.push(AutoSupport3 { node: a, component: c });
+                            rows.push(rigid_row(&x(a), c, centre, size));
+                            modes = free_modes(&rows);
+                            added += 1;
+                            if modes.is_empty() {
+                                break 'fill;
+                            }
+                        }
+                    }
+                }
+                notes.push(format!(
+                    "{here}: its [[boundary]] supports leave {n_free} rigid motion(s) free (one is a {motion}), on which its \
+                     loads do no work; the FEA stops them with {added} added support component(s) (zero reactions, stresses \
+                     unaffected; displacements relative to those supports)"
+                ));
                 continue;
             }
             let magnitude: f64 = nodes.iter().map(|&a| f(a).norm()).sum();

@@ -10,6 +10,7 @@ pub mod crack_friction_3d;
 pub mod cracks;
 pub mod cracks_3d;
 pub mod fea;
+pub mod fea3d;
 pub mod fracture;
 pub mod growth;
 pub mod impact;
@@ -47,6 +48,9 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "dcb_growth", run: growth::run_dcb_growth },
     Case { name: "plates_k", run: plates::run },
     Case { name: "mpm_vs_fea", run: fea::run_mpm_vs_fea },
+    Case { name: "fea_penny_3d", run: fea3d::run_penny },
+    Case { name: "fea_dcb_3d", run: fea3d::run_dcb3 },
+    Case { name: "mpm_vs_fea_3d", run: fea3d::run_mpm_vs_fea_3d },
     Case { name: "bar_3d", run: three_d::run_bar },
     Case { name: "spheres_3d", run: three_d::run_spheres },
     Case { name: "block_3d", run: three_d::run_block },
