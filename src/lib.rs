@@ -5,6 +5,8 @@
 //!
 //! * [`dim`] — the only place that knows the spatial dimension.
 //! * [`exact`] — correctly rounded, order-independent summation (every grid sum uses it).
+//! * [`expr`] — expressions of position and time in scene files, compiled to f64 programs.
+//! * [`motion`] — prescribed boundary motion, tractions and time functions (2D and 3D).
 //! * [`fingerprint`] — bit fingerprints of final states for the golden snapshots.
 //! * [`grid`] — the background grid and its per-velocity-field nodal arrays.
 //! * [`shape`] — linear and uGIMP shape functions.

@@ -110,6 +110,7 @@ golden_case!(
     dcb_growth,
     plates_k,
     mpm_vs_fea,
+    boundary_motion,
     bar_3d,
     spheres_3d,
     block_3d,

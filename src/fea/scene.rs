@@ -12,12 +12,13 @@
 //!   edges lie on grid lines (every verification scene) the mesh is exactly the body;
 //!   a cell only partly filled by particles (e.g. at a disk's edge) is meshed in full,
 //!   and the summary counts such cells.
-//! * **Supports.** `[[boundary]]` conditions act on grid nodes in both methods. A fixed
-//!   velocity 0 (`vx = 0` / `vy = 0`) becomes u = 0 on every mesh node at the selected
-//!   grid nodes (all crack-face copies, as the MPM fixes every velocity field of a node).
-//!   Grid nodes outside the material have no FEA counterpart and are skipped. A non-zero
-//!   fixed velocity is a displacement growing in time, which a static analysis cannot
-//!   represent: it is an error. Each connected piece of the mesh (elements joined through
+//! * **Supports.** `[[boundary]]` conditions act on grid nodes in both methods. Every
+//!   constrained grid node's mesh nodes (all crack-face copies, as the MPM fixes every
+//!   velocity field of a node) get the displacement the MPM gives that node by the end of
+//!   the run ([`EndOfRun`]): 0 for a fixed velocity 0, v·NΔt for a constant velocity,
+//!   and for prescribed motion what [`crate::motion::BoundaryMotion::displacement_at`]
+//!   says. Grid nodes outside the material have no FEA counterpart and are skipped. Each
+//!   connected piece of the mesh (elements joined through
 //!   shared edges) must be held against the three rigid motions of the plane; if its
 //!   supports leave one free (rollers only, a single pinned node) the error names the
 //!   free translation or the centre of the free rotation. A piece without any support
@@ -37,7 +38,9 @@
 //!   the regular fill tile the cells and the average of a bilinear function over a domain
 //!   that does not straddle a node is its centre value (once the particles move, uGIMP
 //!   spreads a particle's force up to one node wider). The full load is applied (a ramp
-//!   only matters in time). Body forces are the particle forces m_p b (eq. 28) lumped the same way;
+//!   only matters in time; a `time` function is taken at the end of the run). A
+//!   `traction` becomes consistent nodal loads ∫ N_a t dΓ over each loaded particle's
+//!   boundary face (Cook et al. 2002, consistent loads; [`GAUSS3`]). Body forces are the particle forces m_p b (eq. 28) lumped the same way;
 //!   on a cell filled with n × n particles this is exactly the consistent nodal load
 //!   ∫ N_a ρ b t dA (Cook et al. 2002, consistent loads).
 //! * **Cracks** are meshed (nodes duplicated along the crack, [`GridMesh::cut_cracks`]).
@@ -118,7 +121,8 @@ pub const MAX_J_CELLS: usize = 8;
 pub struct FeaAnalysis {
     pub solution: Solution,
     pub tips: Vec<TipResult>,
-    /// Strain energy ½ fᵀu (all prescribed displacements are zero).
+    /// Strain energy ½ uᵀKu: ½ fᵀu plus the work of the reactions at non-zero prescribed
+    /// displacements.
     pub strain_energy: f64,
     /// Largest |reaction| at the automatic supports (0 in exact arithmetic).
     pub max_auto_reaction: f64,

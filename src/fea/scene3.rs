@@ -74,7 +74,7 @@ pub struct SceneFea3 {
 #[derive(Clone, Debug)]
 pub struct FeaAnalysis3 {
     pub solution: Solution3,
-    /// Strain energy ½ fᵀu (all prescribed displacements are zero).
+    /// Strain energy ½ uᵀKu (½ fᵀu plus the reactions' work at non-zero prescribed displacements).
     pub strain_energy: f64,
     /// Largest |reaction| at the automatic supports (0 in exact arithmetic).
     pub max_auto_reaction: f64,

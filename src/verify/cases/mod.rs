@@ -2,6 +2,7 @@
 //! tests in `tests/` call the same functions, so nothing is computed twice); the
 //! registry maps the manifest's case names to them.
 
+pub mod boundary;
 pub mod chen;
 pub mod colliding_disks;
 pub mod crack_patch;
@@ -45,6 +46,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "dcb_growth", run: growth::run_dcb_growth },
     Case { name: "plates_k", run: plates::run },
     Case { name: "mpm_vs_fea", run: fea::run_mpm_vs_fea },
+    Case { name: "boundary_motion", run: boundary::run },
     Case { name: "bar_3d", run: three_d::run_bar },
     Case { name: "spheres_3d", run: three_d::run_spheres },
     Case { name: "block_3d", run: three_d::run_block },
