@@ -309,7 +309,8 @@ fn binary_runs_the_base_scene() {
 #[test]
 fn docs_example_scene_is_valid() {
     let doc = include_str!("../docs/scene.md");
-    let start = doc.find("```toml").expect("example block") + "```toml".len();
+    let example = doc.find("## Complete annotated example").expect("the complete example's section");
+    let start = example + doc[example..].find("```toml").expect("example block") + "```toml".len();
     let end = start + doc[start..].find("```").expect("end of block");
     let s = Scene::from_toml(&doc[start..end], "docs/scene.md").unwrap();
     s.build().unwrap();
