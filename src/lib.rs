@@ -5,6 +5,8 @@
 //!
 //! * [`dim`] — the only place that knows the spatial dimension.
 //! * [`exact`] — correctly rounded, order-independent summation (every grid sum uses it).
+//! * [`expr`] — expressions of position and time in scene files, compiled to f64 programs.
+//! * [`motion`] — prescribed boundary motion, tractions and time functions (2D and 3D).
 //! * [`fingerprint`] — bit fingerprints of final states for the golden snapshots.
 //! * [`grid`] — the background grid and its per-velocity-field nodal arrays.
 //! * [`shape`] — linear and uGIMP shape functions.
@@ -30,11 +32,13 @@ pub mod contact;
 pub mod crack;
 pub mod dim;
 pub mod exact;
+pub mod expr;
 pub mod fea;
 pub mod fingerprint;
 pub mod fracture;
 pub mod grid;
 pub mod material;
+pub mod motion;
 pub mod output;
 pub mod particles;
 pub mod report;

@@ -337,6 +337,9 @@ fn execute(scene: &Scene, out: PathBuf, unchecked: bool, force: bool) -> anyhow:
 }
 
 fn execute_3d(scene: &Scene3, out: PathBuf, unchecked: bool, force: bool) -> anyhow::Result<ExitCode> {
+    for w in scene.warnings() {
+        eprintln!("warning: {w}");
+    }
     let opts = RunOptions {
         out_dir: Some(out.clone()),
         progress: std::io::stderr().is_terminal(),

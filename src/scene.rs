@@ -13,6 +13,7 @@ use crate::fracture::jintegral::{CodMethod, JRequest, TipEnd};
 use crate::dim::Vector;
 use crate::grid::Grid;
 use crate::material::{LinearElastic, PlaneState};
+use crate::motion::{BoundaryFields, BoundaryFn, Component, LoadVariation, LoadedParticle, MotionBuilder, TimeSpec, WilliamsSpec};
 use crate::particles::{Particles, NO_LOAD};
 use crate::shape::ShapeKind;
 use crate::simulation::{DampingOn, Load, NodeBcs, Options, Scheme, Simulation};
@@ -230,10 +231,22 @@ pub enum Selection {
 pub struct BoundarySpec {
     /// Which grid nodes.
     pub nodes: Selection,
-    /// Fixed x velocity, if given.
-    pub vx: Option<f64>,
-    /// Fixed y velocity, if given.
-    pub vy: Option<f64>,
+    /// Prescribed x velocity, if given: a number or an expression of x, y, t.
+    pub vx: Option<Component>,
+    /// Prescribed y velocity, if given.
+    pub vy: Option<Component>,
+    /// Prescribed x displacement (the nodes move by u(x, t) − u(x, 0)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ux: Option<Component>,
+    /// Prescribed y displacement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uy: Option<Component>,
+    /// Displacement of the Williams crack-tip field (both in-plane directions).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub williams: Option<WilliamsSpec>,
+    /// Time function multiplying every prescribed component (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<TimeSpec>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -241,11 +254,22 @@ pub struct BoundarySpec {
 pub struct LoadSpec {
     /// Which particles.
     pub particles: Selection,
-    /// Total force, shared equally by the selected particles.
-    pub force: [f64; 2],
+    /// Total force, shared equally by the selected particles (or give `traction`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force: Option<[f64; 2]>,
+    /// Force per unit area of the boundary (edge length × thickness), numbers or
+    /// expressions of x, y, t, distributed by each particle's share of the boundary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traction: Option<[Component; 2]>,
+    /// Outward normal of the loaded boundary (a traction on a `region`; a `line` gives it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal: Option<[f64; 2]>,
     /// Ramp time: the force grows linearly from 0 over this time (default 0: a step load).
     #[serde(default)]
     pub ramp: f64,
+    /// Time function multiplying the force or traction (instead of `ramp`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<TimeSpec>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -697,22 +721,12 @@ impl Scene {
             }
         }
         for (i, b) in self.boundary.iter().enumerate() {
-            if b.vx.is_none() && b.vy.is_none() {
-                return Err(invalid(format!("boundary[{i}]"), "fixes nothing: give vx and/or vy"));
-            }
-            for (key, value) in [("vx", b.vx), ("vy", b.vy)] {
-                if let Some(x) = value {
-                    finite(&format!("boundary[{i}].{key}"), x)?;
-                }
-            }
+            self.boundary_fn(i)?;
             finite_selection(&format!("boundary[{i}].nodes"), &b.nodes)?;
         }
         for (i, l) in self.loads.iter().enumerate() {
-            finite_all(&format!("loads[{i}].force"), &l.force)?;
             finite_selection(&format!("loads[{i}].particles"), &l.particles)?;
-            if !(l.ramp.is_finite() && l.ramp >= 0.0) {
-                return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive (and finite), got {}", l.ramp)));
-            }
+            self.load_normal(i)?;
         }
         for (i, c) in self.cracks.iter().enumerate() {
             if c.points.len() < 2 {
@@ -778,6 +792,33 @@ impl Scene {
         let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
         let mats: Vec<(f64, f64)> = self.materials.iter().map(|m| (m.e, m.rho)).collect();
         validate_time_step(&self.solver, self.time_step(), &speeds, &mats)
+    }
+
+    /// `boundary[i]` compiled ([`BoundaryFn`]): the error names the field.
+    pub fn boundary_fn(&self, i: usize) -> Result<BoundaryFn, SceneError> {
+        let b = &self.boundary[i];
+        let field = format!("boundary[{i}]");
+        let mat = match &b.williams {
+            Some(w) => {
+                let names: Vec<&str> = self.materials.iter().map(|m| m.name.as_str()).collect();
+                Some(crate::motion::williams_material(&format!("{field}.williams"), w, &names, &self.materials(), 2).map_err(|(f, m)| invalid(f, m))?)
+            }
+            None => None,
+        };
+        let fields = BoundaryFields { field, velocity: vec![b.vx.as_ref(), b.vy.as_ref()], displacement: vec![b.ux.as_ref(), b.uy.as_ref()], time: b.time.as_ref(), williams: b.williams.as_ref() };
+        BoundaryFn::new(&fields, 2, mat).map_err(|(f, m)| invalid(f, m))
+    }
+
+    /// Check `loads[i]` ([`crate::motion::validate_load`]) and return a traction's unit
+    /// outward normal: `normal`, or perpendicular to a `line` selection.
+    pub fn load_normal(&self, i: usize) -> Result<Option<Vec<f64>>, SceneError> {
+        let l = &self.loads[i];
+        let implied = match l.particles {
+            Selection::Line { from, to } if from != to => Some(vec![to[1] - from[1], from[0] - to[0]]),
+            _ => None,
+        };
+        crate::motion::validate_load(&format!("loads[{i}]"), l.force.as_ref().map(|f| &f[..]), l.traction.as_ref().map(|t| &t[..]), l.normal.as_ref().map(|n| &n[..]), l.ramp, l.time.as_ref(), implied, 2)
+            .map_err(|(f, m)| invalid(f, m))
     }
 
     pub fn grid(&self) -> Grid {
@@ -873,28 +914,33 @@ impl Scene {
                 }
                 particles.load[p] = li as u16;
             }
-            loads.push(Load { force_per_particle: v(l.force) / sel.len() as f64, ramp: l.ramp });
+            let normal = self.load_normal(li)?.unwrap_or_default();
+            let loaded: Vec<LoadedParticle<Vector>> =
+                sel.iter().map(|&p| LoadedParticle { id: particles.id[p], x0: particles.x0[p], lp: particles.lp[p], thickness: self.bodies[particles.body[p] as usize].thickness }).collect();
+            let varying = LoadVariation::new(&format!("loads[{li}]"), l.time.as_ref(), l.traction.as_ref().map(|t| &t[..]), &normal, &loaded, particles.len()).map_err(|(f, m)| invalid(f, m))?;
+            let force = l.force.map_or(Vector::zeros(), v);
+            loads.push(Load { force_per_particle: force / sel.len() as f64, ramp: l.ramp, varying: varying.map(Box::new) });
         }
         // Boundary conditions on nodes.
         let mut bcs = NodeBcs::new(grid.num_nodes());
+        let mut motion = MotionBuilder::default();
         for (bi, b) in self.boundary.iter().enumerate() {
             let ntol = b.nodes.tolerance(grid.min_h());
+            let compiled = self.boundary_fn(bi)?;
+            let field = format!("boundary[{bi}]");
             let mut any = false;
             for i in 0..grid.num_nodes() {
-                if b.nodes.contains(&grid.node_pos(i), ntol) {
+                let x = grid.node_pos(i);
+                if b.nodes.contains(&x, ntol) {
                     any = true;
-                    if let Some(vx) = b.vx {
-                        bcs.fix(i, 0, vx);
-                    }
-                    if let Some(vy) = b.vy {
-                        bcs.fix(i, 1, vy);
-                    }
+                    motion.add(&mut bcs, bi, &field, &compiled, i, &[x.x, x.y]).map_err(|(f, m)| invalid(f, m))?;
                 }
             }
             if !any {
                 return Err(invalid(format!("boundary[{bi}].nodes"), "selects no grid nodes"));
             }
         }
+        motion.finish(&mut bcs);
         bcs.finish();
         let cracks = self
             .cracks
@@ -995,6 +1041,11 @@ impl Scene {
     /// cracks only, case split_beams_k).
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
+        for i in 0..self.boundary.len() {
+            if let Ok(b) = self.boundary_fn(i) {
+                out.extend(b.warnings(&format!("boundary[{i}]")));
+            }
+        }
         for (c, crack) in self.cracks.iter().enumerate() {
             if let Some(f) = &crack.fracture {
                 if f.cod == CodMethod::Fit && f.growth.is_some() {

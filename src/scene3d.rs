@@ -15,6 +15,7 @@
 use crate::dim::{Vector, Vector3, D3};
 use crate::grid::Grid3;
 use crate::material::LinearElastic;
+use crate::motion::{BoundaryFields, BoundaryFn, Component, LoadVariation, LoadedParticle, MotionBuilder, TimeSpec, WilliamsSpec};
 use crate::particles::{Particles, NO_LOAD};
 use crate::scene::{OutputSpec, SceneError, SolverSpec};
 
@@ -175,9 +176,23 @@ pub enum Selection3 {
 #[serde(deny_unknown_fields)]
 pub struct BoundarySpec3 {
     pub nodes: Selection3,
-    pub vx: Option<f64>,
-    pub vy: Option<f64>,
-    pub vz: Option<f64>,
+    /// Prescribed velocity components: numbers or expressions of x, y, z, t.
+    pub vx: Option<Component>,
+    pub vy: Option<Component>,
+    pub vz: Option<Component>,
+    /// Prescribed displacement components (the nodes move by u(x, t) − u(x, 0)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ux: Option<Component>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uy: Option<Component>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uz: Option<Component>,
+    /// Williams crack-tip displacement (x, y) of a straight front parallel to z, plane strain.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub williams: Option<WilliamsSpec>,
+    /// Time function multiplying every prescribed component.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<TimeSpec>,
 }
 
 /// A 3D crack (001 §2.1): a triangulated surface of massless crack particles.
@@ -228,10 +243,21 @@ pub enum CrackSurface {
 #[serde(deny_unknown_fields)]
 pub struct LoadSpec3 {
     pub particles: Selection3,
-    /// Total force, shared equally by the selected particles.
-    pub force: [f64; 3],
+    /// Total force, shared equally by the selected particles (or give `traction`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force: Option<[f64; 3]>,
+    /// Force per unit area, numbers or expressions of x, y, z, t, distributed by each
+    /// particle's share of the face.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traction: Option<[Component; 3]>,
+    /// Outward normal of the loaded face (a traction on a `box`; a `plane` gives it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal: Option<[f64; 3]>,
     #[serde(default)]
     pub ramp: f64,
+    /// Time function multiplying the force or traction (instead of `ramp`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<TimeSpec>,
 }
 
 /// A polygon's points in the order whose right-hand normal agrees with n.
@@ -604,23 +630,12 @@ impl Scene3 {
             }
         }
         for (i, b) in self.boundary.iter().enumerate() {
-            let f = format!("boundary[{i}]");
-            b.nodes.validate(&format!("{f}.nodes"))?;
-            if b.vx.is_none() && b.vy.is_none() && b.vz.is_none() {
-                return Err(invalid(f, "fixes nothing: give vx, vy and/or vz"));
-            }
-            for (k, val) in [("vx", b.vx), ("vy", b.vy), ("vz", b.vz)] {
-                if let Some(x) = val {
-                    finite(&format!("boundary[{i}].{k}"), x)?;
-                }
-            }
+            b.nodes.validate(&format!("boundary[{i}].nodes"))?;
+            self.boundary_fn(i)?;
         }
         for (i, l) in self.loads.iter().enumerate() {
             l.particles.validate(&format!("loads[{i}].particles"))?;
-            finite3(&format!("loads[{i}].force"), &l.force)?;
-            if l.ramp.is_nan() || l.ramp < 0.0 || l.ramp.is_infinite() {
-                return Err(invalid(format!("loads[{i}].ramp"), format!("must be zero or positive and finite, got {}", l.ramp)));
-            }
+            self.load_normal(i)?;
         }
         let (lo, hi) = (self.grid.origin, std::array::from_fn::<f64, 3, _>(|c| self.grid.origin[c] + self.grid.size[c]));
         for (i, p) in self.probes.iter().enumerate() {
@@ -631,6 +646,44 @@ impl Scene3 {
         let speeds: Vec<f64> = self.materials().iter().map(crate::material::Constitutive::wave_speed).collect();
         let mats: Vec<(f64, f64)> = self.materials.iter().map(|m| (m.e, m.rho)).collect();
         crate::scene::validate_time_step(&self.solver, self.time_step(), &speeds, &mats)
+    }
+
+    /// `boundary[i]` compiled ([`BoundaryFn`]): the error names the field.
+    pub fn boundary_fn(&self, i: usize) -> Result<BoundaryFn, SceneError> {
+        let b = &self.boundary[i];
+        let field = format!("boundary[{i}]");
+        let mat = match &b.williams {
+            Some(w) => {
+                let names: Vec<&str> = self.materials.iter().map(|m| m.name.as_str()).collect();
+                Some(crate::motion::williams_material(&format!("{field}.williams"), w, &names, &self.materials(), 3).map_err(|(f, m)| invalid(f, m))?)
+            }
+            None => None,
+        };
+        let fields = BoundaryFields {
+            field,
+            velocity: vec![b.vx.as_ref(), b.vy.as_ref(), b.vz.as_ref()],
+            displacement: vec![b.ux.as_ref(), b.uy.as_ref(), b.uz.as_ref()],
+            time: b.time.as_ref(),
+            williams: b.williams.as_ref(),
+        };
+        BoundaryFn::new(&fields, 3, mat).map_err(|(f, m)| invalid(f, m))
+    }
+
+    /// Check `loads[i]` ([`crate::motion::validate_load`]) and return a traction's unit
+    /// outward normal: `normal`, or that of a `plane` selection.
+    pub fn load_normal(&self, i: usize) -> Result<Option<Vec<f64>>, SceneError> {
+        let l = &self.loads[i];
+        let implied = match &l.particles {
+            Selection3::Plane { normal, .. } => Some(normal.to_vec()),
+            _ => None,
+        };
+        crate::motion::validate_load(&format!("loads[{i}]"), l.force.as_ref().map(|f| &f[..]), l.traction.as_ref().map(|t| &t[..]), l.normal.as_ref().map(|n| &n[..]), l.ramp, l.time.as_ref(), implied, 3)
+            .map_err(|(f, m)| invalid(f, m))
+    }
+
+    /// Warnings (see [`crate::scene::Scene::warnings`]): displacements that do not change in time.
+    pub fn warnings(&self) -> Vec<String> {
+        (0..self.boundary.len()).filter_map(|i| self.boundary_fn(i).ok().map(|b| b.warnings(&format!("boundary[{i}]")))).flatten().collect()
     }
 
     pub fn grid(&self) -> Grid3 {
@@ -758,27 +811,32 @@ impl Scene3 {
                 }
                 particles.load[p] = li as u16;
             }
-            loads.push(Load { force_per_particle: v3(l.force) / sel.len() as f64, ramp: l.ramp });
+            let normal = self.load_normal(li)?.unwrap_or_default();
+            let loaded: Vec<LoadedParticle<Vector3>> = sel.iter().map(|&p| LoadedParticle { id: particles.id[p], x0: particles.x0[p], lp: particles.lp[p], thickness: 1.0 }).collect();
+            let varying = LoadVariation::new(&format!("loads[{li}]"), l.time.as_ref(), l.traction.as_ref().map(|t| &t[..]), &normal, &loaded, particles.len()).map_err(|(f, m)| invalid(f, m))?;
+            let force = l.force.map_or(Vector3::zeros(), v3);
+            loads.push(Load { force_per_particle: force / sel.len() as f64, ramp: l.ramp, varying: varying.map(Box::new) });
         }
         let nn = crate::dim::GridGeometry::num_nodes(&grid);
         let mut bcs = NodeBcs::new(nn);
+        let mut motion = MotionBuilder::default();
         for (bi, b) in self.boundary.iter().enumerate() {
             let tol = b.nodes.tolerance(hmin);
+            let compiled = self.boundary_fn(bi)?;
+            let field = format!("boundary[{bi}]");
             let mut any = false;
             for i in 0..nn {
-                if b.nodes.contains(&crate::dim::GridGeometry::node_pos(&grid, i), tol) {
+                let x = crate::dim::GridGeometry::node_pos(&grid, i);
+                if b.nodes.contains(&x, tol) {
                     any = true;
-                    for (c, val) in [b.vx, b.vy, b.vz].into_iter().enumerate() {
-                        if let Some(v) = val {
-                            bcs.fix(i, c, v);
-                        }
-                    }
+                    motion.add(&mut bcs, bi, &field, &compiled, i, &[x.x, x.y, x.z]).map_err(|(f, m)| invalid(f, m))?;
                 }
             }
             if !any {
                 return Err(invalid(format!("boundary[{bi}].nodes"), "selects no grid nodes"));
             }
         }
+        motion.finish(&mut bcs);
         bcs.finish();
         let options = Options {
             scheme: self.solver.scheme,

@@ -218,7 +218,7 @@ mod tests {
         // Index = length appends a table to an array of tables.
         let s = d2(scene_with(BAR, "bar", None, &set(&["boundary.3={ nodes = { line = { from = [25.0, 0.0], to = [25.0, 2.0] } }, vy = 0.0 }", "boundary.4.nodes.line={ from = [0.0, 1.0], to = [1.0, 1.0] }", "boundary.4.vx=0.0"])).unwrap());
         assert_eq!(s.boundary.len(), 5);
-        assert_eq!(s.boundary[4].vx, Some(0.0));
+        assert_eq!(s.boundary[4].vx, Some(crate::motion::Component::Number(0.0)));
         // No override: the file as is.
         assert_eq!(d2(scene_with(BAR, "bar", None, &[]).unwrap()), d2(AnyScene::from_toml(BAR, "bar", None).unwrap()));
     }

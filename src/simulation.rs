@@ -96,19 +96,37 @@ pub struct Options {
 }
 
 /// A load on a set of particles: the same force on each, ramped linearly from zero over
-/// `ramp` (applied in full at t = 0 when `ramp` is 0).
+/// `ramp` (applied in full at t = 0 when `ramp` is 0); or, with `varying`, a force that
+/// follows a time function or differs from particle to particle (a traction,
+/// [`crate::motion::LoadVariation`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Load<V = Vector> {
     pub force_per_particle: V,
     pub ramp: f64,
+    pub varying: Option<Box<crate::motion::LoadVariation<V>>>,
 }
 
 impl<V: VectorOps> Load<V> {
+    /// The same force on each particle, ramped over `ramp`.
+    pub fn uniform(force_per_particle: V, ramp: f64) -> Self {
+        Load { force_per_particle, ramp, varying: None }
+    }
+
+    /// The force per particle of a uniform load at time t.
     pub fn at(&self, t: f64) -> V {
         if self.ramp > 0.0 && t < self.ramp {
             self.force_per_particle * (t / self.ramp)
         } else {
             self.force_per_particle
+        }
+    }
+
+    /// The force on the particle with id `id` and initial position `x0` at time t.
+    #[inline]
+    pub fn force_on(&self, t: f64, id: u32, x0: &V) -> V {
+        match &self.varying {
+            None => self.at(t),
+            Some(v) => v.force(self.force_per_particle, t, id as usize, x0),
         }
     }
 }
@@ -120,11 +138,14 @@ pub struct NodeBcs<V = Vector> {
     pub vel: Vec<V>,
     /// Nodes with any condition, ascending.
     pub nodes: Vec<u32>,
+    /// The node components whose prescribed velocity changes in time (`vel` is rewritten
+    /// for them every step; empty for constant velocities).
+    pub motion: crate::motion::BoundaryMotion,
 }
 
 impl<V: VectorOps> NodeBcs<V> {
     pub fn new(num_nodes: usize) -> Self {
-        NodeBcs { mask: vec![0; num_nodes], vel: vec![V::zeros(); num_nodes], nodes: Vec::new() }
+        NodeBcs { mask: vec![0; num_nodes], vel: vec![V::zeros(); num_nodes], nodes: Vec::new(), motion: Default::default() }
     }
 
     /// Fix component `c` (0 = x, 1 = y, 2 = z) of node `i` to velocity `v`.
@@ -354,15 +375,20 @@ impl<S: Dimension> Simulation<S> {
         Energies { kinetic, strain, ..self.work }
     }
 
-    /// Set each particle's applied force for time t.
+    /// Set each particle's applied force for time t, and the velocities of the boundary
+    /// conditions that change in time for the step from t to t + Δt
+    /// ([`crate::motion::BoundaryMotion`]).
     pub(crate) fn apply_loads(&mut self, t: f64) {
+        if !self.bcs.motion.is_empty() {
+            self.bcs.motion.update(t, self.options.dt, &mut self.bcs.vel);
+        }
         if self.loads.is_empty() {
             return;
         }
         let p = &mut self.particles;
         for i in 0..p.len() {
             let l = p.load[i];
-            p.force[i] = if l == NO_LOAD { S::Vector::zeros() } else { self.loads[l as usize].at(t) };
+            p.force[i] = if l == NO_LOAD { S::Vector::zeros() } else { self.loads[l as usize].force_on(t, p.id[i], &p.x0[i]) };
         }
     }
 

@@ -309,7 +309,8 @@ fn binary_runs_the_base_scene() {
 #[test]
 fn docs_example_scene_is_valid() {
     let doc = include_str!("../docs/scene.md");
-    let start = doc.find("```toml").expect("example block") + "```toml".len();
+    let example = doc.find("## Complete annotated example").expect("the complete example's section");
+    let start = example + doc[example..].find("```toml").expect("example block") + "```toml".len();
     let end = start + doc[start..].find("```").expect("end of block");
     let s = Scene::from_toml(&doc[start..end], "docs/scene.md").unwrap();
     s.build().unwrap();
@@ -421,6 +422,25 @@ fn bad_scenes() -> Vec<Bad> {
         bad("load region corner NaN", edit("max = [0.8, 0.6] } }\nforce", "max = [0.8, nan] } }\nforce"), "loads[0].particles.region.max[1]", "finite"),
         bad("load force NaN", edit("force = [0.0, -1.0]", "force = [0.0, nan]"), "loads[0].force[1]", "finite"),
         bad("load ramp infinite", edit("force = [0.0, -1.0]", "force = [0.0, -1.0]\nramp = inf"), "loads[0].ramp", "finite"),
+        // prescribed motion, tractions, time functions (issue 21)
+        bad("boundary expression does not parse", edit("vy = 0.0", "vy = \"1e-3 * (x +\""), "boundary[0].vy", "does not parse"),
+        bad("boundary expression unknown variable", edit("vy = 0.0", "uy = \"1e-3 * z\""), "boundary[0].uy", "unknown variable `z`"),
+        bad("boundary expression unknown function", edit("vy = 0.0", "uy = \"sinus(x)\""), "boundary[0].uy", "not a known function"),
+        bad("boundary expression not finite at t = 0", edit("vy = 0.0", "vy = \"1 / t\""), "boundary[0].vy", "at t = 0"),
+        bad("boundary expression not finite at a node", edit("vy = 0.0", "uy = \"ln(x - 0.5)\"\ntime = { ramp = 1.0 }"), "boundary[0].uy", "at t = 0 at the node"),
+        bad("boundary velocity and displacement", edit("vy = 0.0", "vy = 0.0\nuy = 1.0"), "boundary[0].uy", "velocity or a displacement"),
+        bad("boundary time table not increasing", edit("vy = 0.0", "uy = 1.0\ntime = { table = [[0.0, 0.0], [0.0, 1.0]] }"), "boundary[0].time.table[1]", "does not increase"),
+        bad("boundary time expression of x", edit("vy = 0.0", "uy = 1.0\ntime = \"x * t\""), "boundary[0].time", "unknown variable `x`"),
+        bad("boundary time ramp negative", edit("vy = 0.0", "uy = 1.0\ntime = { ramp = -1.0 }"), "boundary[0].time.ramp", "positive"),
+        bad("williams K not finite", edit("vy = 0.0", "williams = { k1 = nan, tip = [0.5, 0.4] }"), "boundary[0].williams.k1", "finite"),
+        bad("williams tip of three components", edit("vy = 0.0", "williams = { k1 = 1.0, tip = [0.5, 0.4, 0.0] }"), "boundary[0].williams.tip", "components"),
+        bad("williams unknown material", edit("vy = 0.0", "williams = { k1 = 1.0, tip = [0.5, 0.4], material = \"glass\" }"), "boundary[0].williams.material", "no material named"),
+        bad("load force and traction", edit("force = [0.0, -1.0]", "force = [0.0, -1.0]\ntraction = [0.0, 1.0]\nnormal = [0.0, 1.0]"), "loads[0].traction", "not both"),
+        bad("load neither force nor traction", edit("force = [0.0, -1.0]", "ramp = 1.0"), "loads[0].force", "missing"),
+        bad("traction on a region without normal", edit("force = [0.0, -1.0]", "traction = [0.0, -1.0]"), "loads[0].normal", "missing"),
+        bad("traction expression unknown variable", edit("force = [0.0, -1.0]", "traction = [0.0, \"-y * q\"]\nnormal = [0.0, 1.0]"), "loads[0].traction[1]", "unknown variable `q`"),
+        bad("traction normal zero", edit("force = [0.0, -1.0]", "traction = [0.0, -1.0]\nnormal = [0.0, 0.0]"), "loads[0].normal", "non-zero"),
+        bad("load ramp and time", edit("force = [0.0, -1.0]", "force = [0.0, -1.0]\nramp = 1.0\ntime = { ramp = 1.0 }"), "loads[0].time", "either"),
         // cracks
         bad("crack point NaN", with_crack("points = [[0.1, 0.4], [nan, 0.4]]"), "cracks[0].points[1][0]", "finite"),
         bad("crack point infinite", with_crack("points = [[0.1, 0.4], [inf, 0.4]]"), "cracks[0].points[1][0]", "finite"),

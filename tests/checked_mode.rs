@@ -155,7 +155,7 @@ fn unbalanced_force_in_a_scene_without_loads_breaks_momentum() {
     // The scene has no loads, so the simulation arms the momentum check. Attach a load
     // to one particle behind its back: the nodal momentum update no longer conserves.
     let mut sim = block_after(2);
-    sim.loads.push(Load { force_per_particle: Vector::new(1e-3, 0.0), ramp: 0.0 });
+    sim.loads.push(Load::uniform(Vector::new(1e-3, 0.0), 0.0));
     sim.particles.load[11] = 0;
     match sim.step() {
         Err(e @ CheckError::Momentum { .. }) => {

@@ -113,6 +113,7 @@ golden_case!(
     fea_penny_3d,
     fea_dcb_3d,
     mpm_vs_fea_3d,
+    boundary_motion,
     bar_3d,
     spheres_3d,
     block_3d,

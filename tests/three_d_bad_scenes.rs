@@ -319,7 +319,7 @@ fn plane_selection_with_a_zero_normal() {
 #[test]
 fn boundary_that_fixes_nothing() {
     let t = edit("vy = 0.0\n", "");
-    expect_invalid(&t, None, "boundary[0]", &["fixes nothing", "vx, vy and/or vz"]);
+    expect_invalid(&t, None, "boundary[0]", &["fixes nothing", "vx, vy, vz, ux, uy, uz or williams"]);
 }
 
 #[test]

@@ -12,12 +12,13 @@
 //!   edges lie on grid lines (every verification scene) the mesh is exactly the body;
 //!   a cell only partly filled by particles (e.g. at a disk's edge) is meshed in full,
 //!   and the summary counts such cells.
-//! * **Supports.** `[[boundary]]` conditions act on grid nodes in both methods. A fixed
-//!   velocity 0 (`vx = 0` / `vy = 0`) becomes u = 0 on every mesh node at the selected
-//!   grid nodes (all crack-face copies, as the MPM fixes every velocity field of a node).
-//!   Grid nodes outside the material have no FEA counterpart and are skipped. A non-zero
-//!   fixed velocity is a displacement growing in time, which a static analysis cannot
-//!   represent: it is an error. Each connected piece of the mesh (elements joined through
+//! * **Supports.** `[[boundary]]` conditions act on grid nodes in both methods. Every
+//!   constrained grid node's mesh nodes (all crack-face copies, as the MPM fixes every
+//!   velocity field of a node) get the displacement the MPM gives that node by the end of
+//!   the run ([`EndOfRun`]): 0 for a fixed velocity 0, v·NΔt for a constant velocity,
+//!   and for prescribed motion what [`crate::motion::BoundaryMotion::displacement_at`]
+//!   says. Grid nodes outside the material have no FEA counterpart and are skipped. Each
+//!   connected piece of the mesh (elements joined through
 //!   shared edges) must be held against the three rigid motions of the plane; if its
 //!   supports leave one free (rollers only, a single pinned node) the error names the
 //!   free translation or the centre of the free rotation. A piece without any support
@@ -37,7 +38,9 @@
 //!   the regular fill tile the cells and the average of a bilinear function over a domain
 //!   that does not straddle a node is its centre value (once the particles move, uGIMP
 //!   spreads a particle's force up to one node wider). The full load is applied (a ramp
-//!   only matters in time). Body forces are the particle forces m_p b (eq. 28) lumped the same way;
+//!   only matters in time; a `time` function is taken at the end of the run). A
+//!   `traction` becomes consistent nodal loads ∫ N_a t dΓ over each loaded particle's
+//!   boundary face (Cook et al. 2002, consistent loads; [`GAUSS3`]). Body forces are the particle forces m_p b (eq. 28) lumped the same way;
 //!   on a cell filled with n × n particles this is exactly the consistent nodal load
 //!   ∫ N_a ρ b t dA (Cook et al. 2002, consistent loads).
 //! * **Cracks** are meshed (nodes duplicated along the crack, [`GridMesh::cut_cracks`]).
@@ -67,6 +70,7 @@ use super::solve::{self, BoundaryConditions, Model, Solution};
 use super::{FeaError, Result};
 use crate::dim::Vector;
 use crate::material::LinearElastic;
+use crate::motion::{ComponentFn, TimeFn};
 use crate::particles::NO_LOAD;
 use crate::scene::Scene;
 use std::collections::hash_map::Entry;
@@ -117,7 +121,8 @@ pub const MAX_J_CELLS: usize = 8;
 pub struct FeaAnalysis {
     pub solution: Solution,
     pub tips: Vec<TipResult>,
-    /// Strain energy ½ fᵀu (all prescribed displacements are zero).
+    /// Strain energy ½ uᵀKu: ½ fᵀu plus the work of the reactions at non-zero prescribed
+    /// displacements.
     pub strain_energy: f64,
     /// Largest |reaction| at the automatic supports (0 in exact arithmetic).
     pub max_auto_reaction: f64,
@@ -378,18 +383,115 @@ pub(super) fn free_rigid_mode<const M: usize>(rows: impl Iterator<Item = [f64; M
 
 /// The force on every particle that carries one: its share of a `[[loads]]` force plus
 /// m_p b (Nairn 2003 eq. 28), as (particle, force), zero forces left out. Shared by 2D and 3D.
-pub(super) fn particle_forces<S: crate::simulation::Dimension>(sim: &crate::simulation::Simulation<S>) -> Vec<(usize, S::Vector)> {
+pub(super) fn particle_forces<S: crate::simulation::Dimension>(sim: &crate::simulation::Simulation<S>, t_end: f64) -> Vec<(usize, S::Vector)> {
     let p = &sim.particles;
     (0..p.len())
         .filter_map(|k| {
             let mut f = sim.body_force[p.body[k] as usize] * p.mass[k];
             if p.load[k] != NO_LOAD {
-                f += sim.loads[p.load[k] as usize].force_per_particle;
+                let load = &sim.loads[p.load[k] as usize];
+                match &load.varying {
+                    None => f += load.force_per_particle,
+                    // A total force with a time function: its value at the end of the run.
+                    Some(v) if v.share.is_empty() => f += load.force_per_particle * v.time.at(t_end),
+                    // A traction: consistent nodal loads instead (the scene mappings).
+                    Some(_) => {}
+                }
             }
             (f != <S::Vector as crate::dim::VectorOps>::zeros()).then_some((k, f))
         })
         .collect()
 }
+
+/// The end of the MPM run of a scene — its number of steps and time, t accumulated as
+/// the time loop does — at which the static FEA takes the loads and the prescribed
+/// displacements. Shared by 2D and 3D.
+pub(super) struct EndOfRun {
+    pub steps: u64,
+    pub time: f64,
+}
+
+impl EndOfRun {
+    pub fn of<S: crate::simulation::Dimension>(sim: &crate::simulation::Simulation<S>, end_time: f64) -> EndOfRun {
+        let dt = sim.options.dt;
+        let (mut steps, mut time) = (0u64, 0.0f64);
+        // Simulation::run_until_stopped's loop (validation bounds the steps).
+        while time + 0.5 * dt < end_time {
+            time += dt;
+            steps += 1;
+        }
+        EndOfRun { steps, time }
+    }
+
+    /// The displacement of component c of every constrained grid node at the end of the
+    /// run: a fixed velocity v moves it by v × steps × Δt (0 for a support), a prescribed
+    /// motion as [`crate::motion::BoundaryMotion::displacement_at`] says.
+    pub fn node_displacements<S: crate::simulation::Dimension>(&self, sim: &crate::simulation::Simulation<S>) -> impl Fn(usize, usize) -> f64 {
+        let motion = &sim.bcs.motion;
+        let moved: HashMap<(usize, usize), f64> = motion.entries.iter().zip(motion.displacement_at(self.steps, sim.options.dt)).map(|(e, u)| ((e.node as usize, e.comp as usize), u)).collect();
+        let vel: HashMap<(usize, usize), f64> = sim.bcs.nodes.iter().flat_map(|&g| (0..S::DIM).map(move |c| (g as usize, c))).map(|(g, c)| ((g, c), sim.bcs.vel[g][c])).collect();
+        let travel = self.steps as f64 * sim.options.dt;
+        move |g, c| match moved.get(&(g, c)) {
+            Some(u) => *u,
+            None => {
+                let v = vel.get(&(g, c)).copied().unwrap_or(0.0);
+                if v == 0.0 {
+                    0.0
+                } else {
+                    v * travel
+                }
+            }
+        }
+    }
+}
+
+/// The grid axis a unit normal lies along, if it does.
+pub(super) fn grid_axis(n: &[f64]) -> Option<usize> {
+    n.iter().position(|v| v.abs() == 1.0)
+}
+
+/// The regular fill's particle lattice (sub-cell indices of every particle's initial
+/// position), to find on which side a loaded particle's domain face is on the boundary.
+pub(super) struct Lattice {
+    origin: [f64; 3],
+    cells: std::collections::HashSet<[i64; 3]>,
+}
+
+impl Lattice {
+    pub fn new<S: crate::simulation::Dimension>(p: &crate::particles::Particles<S>, origin: &S::Vector) -> Lattice {
+        let origin = std::array::from_fn(|c| if c < S::DIM { origin[c] } else { 0.0 });
+        let mut l = Lattice { origin, cells: Default::default() };
+        for k in 0..p.len() {
+            let i = l.index::<S>(&p.x0[k], &p.lp[k]);
+            l.cells.insert(i);
+        }
+        l
+    }
+
+    fn index<S: crate::simulation::Dimension>(&self, x: &S::Vector, lp: &S::Vector) -> [i64; 3] {
+        std::array::from_fn(|c| if c < S::DIM { ((x[c] - self.origin[c]) / (2.0 * lp[c]) - 0.5).round() as i64 } else { 0 })
+    }
+
+    /// The side (+1 or −1 along `axis`) on which particle (x, lp)'s domain face is on the
+    /// boundary: the side with no particle next to it (+1 if both have none or both have one).
+    pub fn exposed_side<S: crate::simulation::Dimension>(&self, x: &S::Vector, lp: &S::Vector, axis: usize) -> f64 {
+        let i = self.index::<S>(x, lp);
+        let has = |d: i64| {
+            let mut j = i;
+            j[axis] += d;
+            self.cells.contains(&j)
+        };
+        if !has(1) || has(-1) {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+}
+
+/// Three-point Gauss rule on [−1, 1] (points, weights): exact for polynomials of degree 5,
+/// so a traction up to cubic times the linear shape functions is integrated exactly.
+pub(super) const GAUSS3: [(f64, f64); 3] = [(-0.774_596_669_241_483_4, 5.0 / 9.0), (0.0, 8.0 / 9.0), (0.774_596_669_241_483_4, 5.0 / 9.0)];
 
 /// The connected pieces of a mesh: elements joined through a shared side (`sides`: the
 /// local node lists of an element's edges in 2D, faces in 3D; a shared corner or, in 3D,
@@ -438,22 +540,6 @@ fn root(parent: &mut [usize], mut a: usize) -> usize {
 impl SceneFea {
     /// Map a scene onto the FEA (see the module doc). Errors name the scene field.
     pub fn from_scene(scene: &Scene) -> Result<SceneFea> {
-        // Non-zero fixed velocities cannot be a static support.
-        for (k, b) in scene.boundary.iter().enumerate() {
-            for (name, val) in [("vx", b.vx), ("vy", b.vy)] {
-                if let Some(v) = val {
-                    if v != 0.0 {
-                        return Err(scene_err(
-                            format!("boundary[{k}].{name}"),
-                            format!(
-                                "a non-zero fixed velocity ({v}) is a displacement growing in time and is not supported by \
-                                 the static FEA; only {name} = 0 (a support, u = 0) maps onto it"
-                            ),
-                        ));
-                    }
-                }
-            }
-        }
         let sim = scene.build()?;
         let grid = Grid::from(&sim.grid);
         let p = &sim.particles;
@@ -515,7 +601,10 @@ impl SceneFea {
             );
         }
 
-        // Supports on every mesh node at a constrained grid node.
+        // Supports on every mesh node at a constrained grid node: the displacement the
+        // MPM gives the grid node by the end of the run (0 for a fixed support).
+        let end = EndOfRun::of(&sim, scene.solver.end_time);
+        let prescribed = end.node_displacements(&sim);
         for &g in &sim.bcs.nodes {
             let g = g as usize;
             let (i, j) = sim.grid.node_ij(g);
@@ -523,7 +612,7 @@ impl SceneFea {
             for a in grid_mesh.nodes_at(i, j) {
                 for c in 0..2 {
                     if mask & (1 << c) != 0 {
-                        bcs.prescribe(a, c, 0.0)?;
+                        bcs.prescribe(a, c, prescribed(g, c))?;
                     }
                 }
             }
@@ -541,7 +630,7 @@ impl SceneFea {
         // Loads and body forces, particle by particle.
         let mut n_loaded_particles = 0;
         let mut load_resultant = Vector::zeros();
-        for (k, f) in particle_forces(&sim) {
+        for (k, f) in particle_forces(&sim, end.time) {
             n_loaded_particles += 1;
             let cell = cell_of(p.x[k]);
             let (i, j) = (cell % grid.nx, cell / grid.nx);
@@ -554,6 +643,39 @@ impl SceneFea {
                 bcs.point_load(node, f * nf[a])?;
             }
             load_resultant += f;
+        }
+        // Tractions as consistent nodal loads over each particle's face.
+        let lattice = Lattice::new(p, &sim.grid.origin);
+        for (li, l) in scene.loads.iter().enumerate() {
+            let Some(traction) = &l.traction else { continue };
+            let field = format!("loads[{li}]");
+            let comps: Vec<ComponentFn> = traction.iter().enumerate().map(|(c, t)| ComponentFn::new(&format!("{field}.traction[{c}]"), t, 2)).collect::<std::result::Result<_, _>>().map_err(|(f, m)| scene_err(f, m))?;
+            let time = TimeFn::new(&format!("{field}.time"), l.time.as_ref()).map_err(|(f, m)| scene_err(f, m))?;
+            let normal = scene.load_normal(li)?.unwrap_or_default();
+            let axis = grid_axis(&normal).ok_or_else(|| scene_err(format!("{field}.normal"), format!("{normal:?}: the FEA applies tractions on faces normal to a grid axis only")))?;
+            for k in (0..p.len()).filter(|&k| p.load[k] == li as u16) {
+                let (x0, lp) = (p.x0[k], p.lp[k]);
+                let side = lattice.exposed_side::<crate::dim::D2>(&x0, &lp, axis);
+                let across = 1 - axis;
+                let thickness = scene.bodies[p.body[k] as usize].thickness;
+                let cell = cell_of(x0);
+                let (i, j) = (cell % grid.nx, cell / grid.nx);
+                let e = grid_mesh.element_at(i as isize, j as isize).ok_or_else(|| FeaError::InvalidInput(format!("loaded particle at {x0:?} is in no element")))?;
+                let c = grid.cell_center(i, j);
+                for (s, w) in GAUSS3 {
+                    let mut xf = x0;
+                    xf[axis] += side * lp[axis];
+                    xf[across] += s * lp[across];
+                    let t = crate::motion::point(&[xf.x, xf.y], end.time);
+                    let tr = Vector::new(comps[0].at(&t), comps[1].at(&t)) * (time.at(end.time) * w * lp[across] * thickness);
+                    let nf = element::shape(2.0 * (xf.x - c.x) / grid.h.x, 2.0 * (xf.y - c.y) / grid.h.y);
+                    for (a, &node) in mesh.elements[e].iter().enumerate() {
+                        bcs.point_load(node, tr * nf[a])?;
+                    }
+                    load_resultant += tr;
+                }
+                n_loaded_particles += 1;
+            }
         }
 
         // Pieces (elements joined through shared edges; a corner-only contact is a hinge):
@@ -689,8 +811,12 @@ impl SceneFea {
         let solution = solve::postprocess(&model, &self.bcs, displacement);
         let solve_seconds = t0.elapsed().as_secs_f64();
         let f = self.bcs.forces();
+        // ½ uᵀ f_int: the loads' work, plus that of the reactions at non-zero prescribed
+        // displacements (f_int = f_ext + reaction).
+        let pre = self.bcs.prescribed();
         let strain_energy = 0.5
-            * solution.displacement.iter().enumerate().map(|(a, u)| u.x * f[2 * a] + u.y * f[2 * a + 1]).sum::<f64>();
+            * (solution.displacement.iter().enumerate().map(|(a, u)| u.x * f[2 * a] + u.y * f[2 * a + 1]).sum::<f64>()
+                + (0..pre.len()).filter(|&d| pre[d].is_some_and(|v| v != 0.0)).map(|d| pre[d].unwrap_or(0.0) * solution.reaction[d / 2][d % 2]).sum::<f64>());
         let max_auto_reaction =
             self.auto_supports.iter().map(|s| solution.reaction[s.node][s.component].abs()).fold(0.0, f64::max);
         let t1 = Instant::now();

@@ -23,7 +23,8 @@
 use super::crack3::{j_front, FrontJ, MeshedCrack3};
 use super::hex8;
 use super::mesh3::{cell_index, GridMesh3};
-use super::scene::{cell_notes, cell_owners, connected_pieces, free_rigid_mode, motion_notes, particle_forces};
+use super::scene::{cell_notes, cell_owners, connected_pieces, free_rigid_mode, grid_axis, motion_notes, particle_forces, EndOfRun, Lattice, GAUSS3};
+use crate::motion::{ComponentFn, TimeFn};
 use super::solve::BoundaryConditions;
 use super::solve3::{assemble_3d, nodal_vectors, postprocess_3d, Model3, Solution3};
 use super::{FeaError, Result};
@@ -73,7 +74,7 @@ pub struct SceneFea3 {
 #[derive(Clone, Debug)]
 pub struct FeaAnalysis3 {
     pub solution: Solution3,
-    /// Strain energy ½ fᵀu (all prescribed displacements are zero).
+    /// Strain energy ½ uᵀKu (½ fᵀu plus the reactions' work at non-zero prescribed displacements).
     pub strain_energy: f64,
     /// Largest |reaction| at the automatic supports (0 in exact arithmetic).
     pub max_auto_reaction: f64,
@@ -165,19 +166,6 @@ impl SceneFea3 {
     /// (vertices, triangles; the layout of the MPM's crack surfaces), cut by
     /// [`GridMesh3::cut_planar_crack`] before supports and loads are mapped.
     pub fn with_cracks(scene: &Scene3, cracks: &[(Vec<Vector3>, Vec<[u32; 3]>)]) -> Result<SceneFea3> {
-        for (k, b) in scene.boundary.iter().enumerate() {
-            for (name, val) in [("vx", b.vx), ("vy", b.vy), ("vz", b.vz)] {
-                if let Some(v) = val.filter(|v| *v != 0.0) {
-                    return Err(scene_err(
-                        format!("boundary[{k}].{name}"),
-                        format!(
-                            "a non-zero fixed velocity ({v}) is a displacement growing in time and is not supported by \
-                             the static FEA; only {name} = 0 (a support, u = 0) maps onto it"
-                        ),
-                    ));
-                }
-            }
-        }
         let sim = scene.build()?;
         let grid = sim.grid.clone();
         let p = &sim.particles;
@@ -214,12 +202,15 @@ impl SceneFea3 {
                               time step, the scheme and the shape functions are not used"
             .to_string()];
 
-        // Supports on the mesh node at every constrained grid node.
+        // Supports on the mesh node at every constrained grid node: the displacement the
+        // MPM gives the grid node by the end of the run (0 for a fixed support).
+        let end = EndOfRun::of(&sim, scene.solver.end_time);
+        let prescribed = end.node_displacements(&sim);
         for &g in &sim.bcs.nodes {
             let mask = sim.bcs.mask[g as usize];
             for a in grid_mesh.nodes_at(g as usize) {
                 for c in (0..3).filter(|c| mask & (1 << c) != 0) {
-                    bcs.prescribe(a, c, 0.0)?;
+                    bcs.prescribe(a, c, prescribed(g as usize, c))?;
                 }
             }
         }
@@ -235,7 +226,7 @@ impl SceneFea3 {
         // Loads and body forces, particle by particle.
         let mut n_loaded_particles = 0;
         let mut load_resultant = Vector3::zeros();
-        for (k, f) in particle_forces(&sim) {
+        for (k, f) in particle_forces(&sim, end.time) {
             n_loaded_particles += 1;
             let c = cell_of(&p.x[k]);
             let Some(e) = grid_mesh.cell_element[cell_index(&grid, c)] else {
@@ -249,6 +240,44 @@ impl SceneFea3 {
                 bcs.add_load(node, (f * *a).as_slice())?;
             }
             load_resultant += f;
+        }
+        // Tractions as consistent nodal loads over each particle's face (3 × 3 Gauss points).
+        let lattice = Lattice::new(p, &grid.origin);
+        for (li, l) in scene.loads.iter().enumerate() {
+            let Some(traction) = &l.traction else { continue };
+            let field = format!("loads[{li}]");
+            let comps: Vec<ComponentFn> = traction.iter().enumerate().map(|(c, t)| ComponentFn::new(&format!("{field}.traction[{c}]"), t, 3)).collect::<std::result::Result<_, _>>().map_err(|(f, m)| scene_err(f, m))?;
+            let time = TimeFn::new(&format!("{field}.time"), l.time.as_ref()).map_err(|(f, m)| scene_err(f, m))?;
+            let normal = scene.load_normal(li)?.unwrap_or_default();
+            let axis = grid_axis(&normal).ok_or_else(|| scene_err(format!("{field}.normal"), format!("{normal:?}: the FEA applies tractions on faces normal to a grid axis only")))?;
+            let (k1, k2) = ((axis + 1) % 3, (axis + 2) % 3);
+            for k in (0..p.len()).filter(|&k| p.load[k] == li as u16) {
+                let (x0, lp) = (p.x0[k], p.lp[k]);
+                let side = lattice.exposed_side::<crate::dim::D3>(&x0, &lp, axis);
+                let c = cell_of(&x0);
+                let Some(e) = grid_mesh.cell_element[cell_index(&grid, c)] else {
+                    return Err(FeaError::InvalidInput(format!("loaded particle at {x0:?} is in no element")));
+                };
+                for (s1, w1) in GAUSS3 {
+                    for (s2, w2) in GAUSS3 {
+                        let mut xf = x0;
+                        xf[axis] += side * lp[axis];
+                        xf[k1] += s1 * lp[k1];
+                        xf[k2] += s2 * lp[k2];
+                        let t = crate::motion::point(&[xf.x, xf.y, xf.z], end.time);
+                        let tr = Vector3::new(comps[0].at(&t), comps[1].at(&t), comps[2].at(&t)) * (time.at(end.time) * w1 * w2 * lp[k1] * lp[k2]);
+                        let xi: [f64; 3] = std::array::from_fn(|d| {
+                            let centre = grid.origin[d] + (c[d] as f64 + 0.5) * grid.h[d];
+                            2.0 * (xf[d] - centre) / grid.h[d]
+                        });
+                        for (a, &node) in hex8::shape(xi).iter().zip(&mesh.elements[e]) {
+                            bcs.add_load(node, (tr * *a).as_slice())?;
+                        }
+                        load_resultant += tr;
+                    }
+                }
+                n_loaded_particles += 1;
+            }
         }
 
         // Pieces: elements joined through shared faces.
@@ -423,13 +452,16 @@ impl SceneFea3 {
         }
         let solution = postprocess_3d(&model, &self.bcs, displacement);
         let f = self.bcs.forces();
+        // ½ uᵀ f_int (f_int = f_ext + reaction; reactions work only where u ≠ 0 is prescribed).
+        let pre = self.bcs.prescribed();
         let strain_energy = 0.5
-            * solution
+            * (solution
                 .displacement
                 .iter()
                 .enumerate()
                 .map(|(a, u)| u.x * f[3 * a] + u.y * f[3 * a + 1] + u.z * f[3 * a + 2])
-                .sum::<f64>();
+                .sum::<f64>()
+                + (0..pre.len()).filter(|&d| pre[d].is_some_and(|v| v != 0.0)).map(|d| pre[d].unwrap_or(0.0) * solution.reaction[d / 3][d % 3]).sum::<f64>());
         let max_auto_reaction =
             self.auto_supports.iter().map(|s| solution.reaction[s.node][s.component].abs()).fold(0.0, f64::max);
         let t3 = Instant::now();

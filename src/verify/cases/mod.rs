@@ -2,6 +2,7 @@
 //! tests in `tests/` call the same functions, so nothing is computed twice); the
 //! registry maps the manifest's case names to them.
 
+pub mod boundary;
 pub mod chen;
 pub mod colliding_disks;
 pub mod crack_patch;
@@ -51,6 +52,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "fea_penny_3d", run: fea3d::run_penny },
     Case { name: "fea_dcb_3d", run: fea3d::run_dcb3 },
     Case { name: "mpm_vs_fea_3d", run: fea3d::run_mpm_vs_fea_3d },
+    Case { name: "boundary_motion", run: boundary::run },
     Case { name: "bar_3d", run: three_d::run_bar },
     Case { name: "spheres_3d", run: three_d::run_spheres },
     Case { name: "block_3d", run: three_d::run_block },
