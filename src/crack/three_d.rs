@@ -174,11 +174,10 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         .map_init(Vec::new, |candidates: &mut Vec<(u32, i8)>, (i, (field, pair_crack))| {
             let xp = p.x[i];
             let near = |e: &(Vector3, Vector3)| (0..3).all(|c| xp[c] + reach[c] >= e.0[c] && xp[c] - reach[c] <= e.1[c]);
+            field.fill(0);
             if !extents.iter().any(near) {
-                field.fill(0);
                 return false;
             }
-            field.fill(0);
             let mut split = false;
             let nodes = &node[i * STRIDE..i * STRIDE + count[i] as usize];
             for (c, view) in views.iter().enumerate() {

@@ -104,23 +104,7 @@ pub fn run_block(h: f64, mu: f64, f: f64) -> anyhow::Result<FrictionRun> {
         .context("the crack has no points")?;
     let (_, mx0) = momentum_above(&sim, &above);
     let a = (f - mu * NORMAL_LOAD) / m;
-    let mut r = FrictionRun {
-        mu,
-        f,
-        m,
-        a,
-        worst_v: 0.0,
-        max_vy: 0.0,
-        max_slip: 0.0,
-        max_dx: 0.0,
-        t: 0.0,
-        slip: 0.0,
-        dx: 0.0,
-        v: 0.0,
-        velocity: vec![(0.0, 0.0)],
-        steps: 0,
-        wall_s: 0.0,
-    };
+    let mut r = FrictionRun::new(mu, f, m, a);
     sim.run_until(FRICTION_END, |s| {
         let (p, mx) = momentum_above(s, &above);
         let (vt, vn) = (p.dot(&t) / m, p.dot(&n) / m);

@@ -423,6 +423,14 @@ pub struct FrictionRun {
     pub wall_s: f64,
 }
 
+impl FrictionRun {
+    /// A run of coefficient `mu` and force `f` on a block of mass `m` (closed-form
+    /// acceleration `a`) before its first step.
+    pub fn new(mu: f64, f: f64, m: f64, a: f64) -> FrictionRun {
+        FrictionRun { mu, f, m, a, worst_v: 0.0, max_vy: 0.0, max_slip: 0.0, max_dx: 0.0, t: 0.0, slip: 0.0, dx: 0.0, v: 0.0, velocity: vec![(0.0, 0.0)], steps: 0, wall_s: 0.0 }
+    }
+}
+
 /// The block on a crack with Coulomb coefficient `mu` and tangential force `f` (N), cells of `h` mm.
 pub fn run_friction_block(h: f64, mu: f64, f: f64) -> anyhow::Result<FrictionRun> {
     let started = std::time::Instant::now();
@@ -437,23 +445,7 @@ pub fn run_friction_block(h: f64, mu: f64, f: f64) -> anyhow::Result<FrictionRun
     anyhow::ensure!(sim.cracks[0].points[mid].x == 9.5, "no crack particle at x = 9.5");
     let (m, _, _, x0) = top_block(&sim);
     let a = (f - mu * FRICTION_N) / m;
-    let mut r = FrictionRun {
-        mu,
-        f,
-        m,
-        a,
-        worst_v: 0.0,
-        max_vy: 0.0,
-        max_slip: 0.0,
-        max_dx: 0.0,
-        t: 0.0,
-        slip: 0.0,
-        dx: 0.0,
-        v: 0.0,
-        velocity: vec![(0.0, 0.0)],
-        steps: 0,
-        wall_s: 0.0,
-    };
+    let mut r = FrictionRun::new(mu, f, m, a);
     sim.run_until(FRICTION_END, |s| {
         let (_, px, py, xc) = top_block(s);
         let slip = s.cracks[0].opening_nt(mid).1;
