@@ -27,7 +27,8 @@
 //!
 //! * [`hex8`] — element (2×2×2 Gauss, D from the MPM's `update_3d`); [`mesh3`] — the grid
 //!   mesh of the 3D material cells; [`solve3`] — model, assembly into the shared reduced
-//!   system (`solve::assemble_reduced`), stresses; [`crack3`] — planar cracks on grid
+//!   system (`solve::assemble_reduced`) eliminated in nested-dissection order
+//!   ([`ordering`]), stresses; [`crack3`] — planar cracks on grid
 //!   planes (node duplication) and J, K_I, K_II, K_III per front node (3D EDI);
 //!   [`scene3`] — the scene mapping; [`output3`], [`run3`] — `cramp fea` files.
 //!
@@ -54,6 +55,7 @@ pub mod hex8;
 pub mod jintegral;
 pub mod mesh;
 pub mod mesh3;
+pub mod ordering;
 pub mod output;
 pub mod output3;
 pub mod penny;

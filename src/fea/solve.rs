@@ -11,10 +11,11 @@ use super::mesh::Mesh;
 use super::{FeaError, Result};
 use crate::dim::{Sym, Sym3, Vector};
 use crate::material::{LinearElastic, PlaneState};
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::{Conj, Mat, Side};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// Material and thickness of a group of elements, with the D matrix of its plane state.
@@ -311,6 +312,10 @@ pub struct System {
     pub k: SparseColMat<usize, f64>,
     /// f_f − K_fp u_p.
     pub rhs: Vec<f64>,
+    /// Fill-reducing elimination order of the equations (`ordering[k]` is eliminated
+    /// k-th), or `None` for faer's approximate minimum degree. 3D meshes set it by nested
+    /// dissection ([`super::ordering`], [`System::order_by_nodes`]); 2D keeps AMD.
+    pub ordering: Option<Vec<usize>>,
 }
 
 /// Assemble the reduced system (see the module doc).
@@ -377,12 +382,14 @@ pub(crate) fn assemble_reduced<const N: usize>(
     }
     let k = SparseColMat::<usize, f64>::try_new_from_triplets(n_eq, n_eq, &triplets)
         .map_err(|e| FeaError::Solver(format!("building the sparse matrix: {e:?}")))?;
-    Ok(System { dim: bcs.dim, eq, u_prescribed, k, rhs })
+    Ok(System { dim: bcs.dim, eq, u_prescribed, k, rhs, ordering: None })
 }
 
-/// A sparse Cholesky factorisation of K_ff (fill-reducing ordering chosen by faer).
+/// A sparse Cholesky factorisation of K_ff (faer's supernodal or simplicial LLᵀ, with the
+/// system's fill-reducing ordering).
 pub struct Factorization {
-    llt: Llt<usize, f64>,
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<f64>,
 }
 
 impl System {
@@ -390,15 +397,63 @@ impl System {
         self.rhs.len()
     }
 
+    /// Eliminate the equations node by node in `node_order` (each node's free DOFs in
+    /// x, y, z order): the fill-reducing ordering of the factorisation.
+    pub fn order_by_nodes(&mut self, node_order: &[usize]) {
+        let (dim, eq) = (self.dim, &self.eq);
+        let order: Vec<usize> = node_order
+            .iter()
+            .flat_map(|&a| (0..dim).map(move |c| dim * a + c))
+            .map(|dof| eq[dof])
+            .filter(|&e| e != usize::MAX)
+            .collect();
+        debug_assert_eq!(order.len(), self.n_equations());
+        self.ordering = Some(order);
+    }
+
     /// Symbolic and numeric Cholesky factorisation of K_ff.
     pub fn factorize(&self) -> Result<Factorization> {
-        let symbolic = SymbolicLlt::try_new(self.k.symbolic(), Side::Lower)
+        let n = self.n_equations();
+        let inverse: Vec<usize>;
+        let ordering = match &self.ordering {
+            None => SymmetricOrdering::Amd,
+            Some(fwd) => {
+                if fwd.len() != n {
+                    return Err(FeaError::Solver(format!("the ordering has {} equations, K_ff {n}", fwd.len())));
+                }
+                let mut inv = vec![usize::MAX; n];
+                for (new, &old) in fwd.iter().enumerate() {
+                    inv[old] = new;
+                }
+                if inv.contains(&usize::MAX) {
+                    return Err(FeaError::Solver("the ordering is not a permutation of the equations".into()));
+                }
+                inverse = inv;
+                SymmetricOrdering::Custom(PermRef::new_checked(fwd, &inverse, n))
+            }
+        };
+        let symbolic = factorize_symbolic_cholesky(self.k.symbolic(), Side::Lower, ordering, Default::default())
             .map_err(|e| FeaError::Solver(format!("symbolic Cholesky: {e:?}")))?;
-        let llt = Llt::try_new_with_symbolic(symbolic, self.k.as_ref(), Side::Lower).map_err(|e| match e {
-            faer::sparse::linalg::LltError::Numeric(n) => FeaError::NotPositiveDefinite(format!("{n:?}")),
-            other => FeaError::Solver(format!("numeric Cholesky: {other:?}")),
-        })?;
-        Ok(Factorization { llt })
+        let mut values = Vec::new();
+        values
+            .try_reserve_exact(symbolic.len_val())
+            .map_err(|_| FeaError::Solver(format!("out of memory for the Cholesky factor ({} values)", symbolic.len_val())))?;
+        values.resize(symbolic.len_val(), 0.0);
+        let par = faer::get_global_parallelism();
+        let mut mem = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
+            .map_err(|_| FeaError::Solver("out of memory for the Cholesky workspace".into()))?;
+        symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut values,
+                self.k.as_ref(),
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|n| FeaError::NotPositiveDefinite(format!("{n:?}")))?;
+        Ok(Factorization { symbolic, values })
     }
 
     /// Every DOF's value: the free-DOF solution with the prescribed values filled in.
@@ -433,10 +488,17 @@ impl System {
 }
 
 impl Factorization {
+    /// Entries of the Cholesky factor L (its memory is 8 bytes each).
+    pub fn factor_entries(&self) -> usize {
+        self.values.len()
+    }
+
     /// Solve K_ff x = rhs.
     pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
         let mut b = Mat::<f64>::from_fn(rhs.len(), 1, |i, _| rhs[i]);
-        self.llt.solve_in_place(&mut b);
+        let par = faer::get_global_parallelism();
+        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, par));
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, b.as_mut(), par, MemStack::new(&mut mem));
         (0..rhs.len()).map(|i| b[(i, 0)]).collect()
     }
 }

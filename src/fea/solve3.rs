@@ -5,6 +5,7 @@
 
 use super::hex8::{self, GAUSS};
 use super::mesh3::Mesh3;
+use super::ordering::nested_dissection;
 use super::solve::{assemble_reduced, check_groups, extrapolate_and_average, BoundaryConditions, System};
 use super::{FeaError, Result};
 use crate::dim::{Sym3, Vector3};
@@ -58,12 +59,15 @@ pub fn assemble_3d(model: &Model3, bcs: &BoundaryConditions) -> Result<System> {
     if bcs.dim() != 3 {
         return Err(FeaError::InvalidInput("the boundary conditions of a 3D mesh need 3 DOFs per node".into()));
     }
-    assemble_reduced(bcs, mesh.n_dofs(), mesh.elements.len(), |e| {
+    let mut system = assemble_reduced(bcs, mesh.n_dofs(), mesh.elements.len(), |e| {
         let ke = hex8::stiffness(&mesh.element_coords(e), &model.d[model.group(e)])
             .map_err(|(gauss, det_j)| FeaError::BadElement { element: e, gauss, det_j })?;
         let conn = mesh.elements[e];
         Ok((std::array::from_fn(|k| 3 * conn[k / 3] + k % 3), ke))
-    })
+    })?;
+    let pos: Vec<[f64; 3]> = mesh.nodes.iter().map(|x| [x.x, x.y, x.z]).collect();
+    system.order_by_nodes(&nested_dissection(&pos, &mesh.elements));
+    Ok(system)
 }
 
 /// The solved state: displacements, Gauss-point and nodal stresses, reactions.
