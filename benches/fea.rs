@@ -5,14 +5,23 @@
 //!
 //! * 3D ~1e5 DOFs (32³ cells, 104 544 free DOFs, 4.0e6 stored non-zeros): criterion, 10
 //!   samples; the group runs first so that its peak resident memory (VmHWM) is its own.
-//!   Measured on the shared 2-core machine (load ~10): assemble 1.43 s, factorise 23.8 s,
-//!   solve 0.19 s, peak 1.78 GiB.
-//! * 3D ~1e6 DOFs (69³ cells, ~1.0e6 free DOFs): not run by default. The Cholesky fill of a
-//!   3D grid grows like n^(4/3) (nested dissection) to n^(5/3) (measured on the penny
-//!   meshes of `fea_penny_3d`: 4.5e4 equations 0.6 GiB, 1.4e5 3.3 GiB, 3.0e5 more than
-//!   12 GiB), so 1e6 DOFs need 40–80 GiB: past the 24 GiB of the development machine, which
-//!   ends near 5–7e5 equations (a cube of 55–62 cells a side). CRAMP_FEA3D_BENCH_1E6=1 runs
-//!   it anyway.
+//!   The 3D system is eliminated in nested-dissection order (`fea::ordering`); with faer's
+//!   AMD instead (`examples/fea3d_ordering.rs N amd`, one ordering per process):
+//!
+//!   | cube | equations | factor entries ND / AMD | factorise ND / AMD | peak memory ND / AMD |
+//!   |---|---|---|---|---|
+//!   | 20³ | 26,460 | 1.71e7 / 2.96e7 | 2.3 s / 6.5 s | 0.18 / 0.27 GiB |
+//!   | 32³ | 104,544 | 1.17e8 / 2.15e8 | 27.6 s / 86.7 s | 1.04 / 1.78 GiB |
+//!   | 45³ | 285,660 | 4.73e8 / — | 185 s / — | 3.98 GiB / — |
+//!
+//!   (shared 2-core machine, load 6–8; the residual |Ku − f|/|f| is 1e-13 either way).
+//!   Factor entries grow like n^1.39 under ND (n^(4/3) in theory) against ~n^(5/3) under
+//!   AMD (measured on the penny meshes: 4.5e4 equations 0.6 GiB, 1.4e5 3.3 GiB, 3.0e5 more
+//!   than 12 GiB).
+//! * 3D ~1e6 DOFs (69³ cells, ~1.0e6 free DOFs): not run by default. Extrapolated from the
+//!   table, ND needs ~2.7e9 factor entries (~20 GiB) and ~40 min on the shared machine: at
+//!   the edge of the development machine's 24 GiB (AMD ended near 5–7e5 equations).
+//!   CRAMP_FEA3D_BENCH_1E6=1 runs it anyway.
 //!
 //! * ~1e5 DOFs (224 × 224 cells, 100 800 free DOFs): criterion, 10 samples.
 //! * ~1e6 DOFs (707 × 707 cells, 1 001 112 free DOFs): criterion, 10 samples (the
