@@ -60,11 +60,15 @@ pub struct AdvanceReport {
     pub merges: usize,
     /// Front nodes whose move was refused because a new triangle would meet a crack.
     pub refused: Vec<u32>,
+    /// (old front node, its new crack particle) for every node that moved (merged nodes
+    /// share one new particle).
+    pub moved: Vec<(u32, u32)>,
 }
 
 /// The triangles and front of one advance, before it is applied.
 struct Plan {
     vertices: Vec<Vector3>,
+    moved: Vec<(u32, u32)>,
     triangles: Vec<[u32; 3]>,
     /// New front edges with their reference lengths, in the old front's order.
     front: Vec<([u32; 2], f64)>,
@@ -100,6 +104,7 @@ pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTree
         splits: plan.splits,
         merges: plan.merges,
         refused,
+        moved: plan.moved.clone(),
     };
     let s = &mut crack.surface;
     s.vertices.extend(&plan.vertices);
@@ -112,6 +117,26 @@ pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTree
     crack.boundary_edge = edges;
     crack.boundary_vertex = verts;
     report
+}
+
+/// Drop from the front every edge whose two ends are in `stopped` (001 §2.3.3: "If both
+/// ends of a crack-front segment are at or outside the MPM material boundary, that segment
+/// is beyond the material ... Such segments will be eliminated as a crack-front"), with
+/// their reference lengths. Returns how many were dropped.
+pub fn prune_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, stopped: &std::collections::BTreeSet<u32>) -> usize {
+    let keep: Vec<bool> = crack.front.iter().map(|e| !(stopped.contains(&e[0]) && stopped.contains(&e[1]))).collect();
+    let before = crack.front.len();
+    let mut k = 0;
+    crack.front.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    let mut k = 0;
+    front_ref.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    before - crack.front.len()
 }
 
 /// Build the new vertices, triangles and front for `moves` (no crossing test).
@@ -217,7 +242,7 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Pl
             }
         }
     }
-    Plan { vertices, triangles, front, sources, splits, merges }
+    Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, splits, merges }
 }
 
 /// The moved front nodes whose new triangles meet an existing triangle (of this crack or
@@ -336,6 +361,13 @@ mod tests {
         assert!((area(&c.surface) - a0 - 0.5 * n as f64).abs() < 1e-12);
         assert_eq!(c.above.len(), c.surface.vertices.len());
         assert_eq!(refs, vec![1.0; n]);
+        assert_eq!(r.moved.len(), n + 1);
+        // The two end nodes stopped at a boundary, and one interior node: only the edges
+        // with both ends stopped leave the front.
+        let new_of = |old: u32| r.moved.iter().find(|m| m.0 == old).unwrap().1;
+        let ends: std::collections::BTreeSet<u32> = [new_of(1), new_of(3), new_of(2 * n as u32 + 1)].into();
+        assert_eq!(prune_front(&mut c, &mut refs, &ends), 1, "only the edge from node 1 to node 3 has both ends stopped");
+        assert_eq!((c.front.len(), refs.len()), (n - 1, n - 1));
     }
 
     /// One end of a segment moves: one triangle (001 Fig. 3, ABB′).
