@@ -4,6 +4,7 @@
 //! surfaces, each moved in the velocity field of its own side (004 §2.1; 001 eqs. 11–12),
 //! whose separation gives the crack-opening displacements.
 
+pub mod advance3;
 pub mod crossing3;
 pub mod geometry;
 pub mod surface;

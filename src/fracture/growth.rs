@@ -40,6 +40,21 @@ pub const SPEED_WINDOW: usize = 4;
 /// Relative nodal volume at the material boundary (a straight edge: particles on one side).
 pub const BOUNDARY_VOLUME: f64 = 0.5;
 
+/// The boundary along a segment by bisection: the last parameter t ∈ [0, 1) found inside
+/// (to 2⁻⁴⁰), given `inside(0)` and not `inside(1)` (the relative volume is continuous).
+pub(crate) fn last_inside(inside: impl Fn(f64) -> bool) -> f64 {
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if inside(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// A crack end with a relative volume below this is taken to be on the boundary when
 /// deciding whether a crack has cut its body through (within about a quarter cell).
 pub const NEAR_BOUNDARY_VOLUME: f64 = 0.75;
@@ -410,15 +425,7 @@ impl Simulation {
                 return (0.0, status);
             }
             // Bisect for the boundary along the segment (the relative volume is continuous).
-            let (mut lo, mut hi) = (0.0f64, 1.0f64);
-            for _ in 0..40 {
-                let mid = 0.5 * (lo + hi);
-                if self.relative_volume(mat, from + (to - from) * mid) >= BOUNDARY_VOLUME {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
+            let lo = last_inside(|t| self.relative_volume(mat, from + (to - from) * t) >= BOUNDARY_VOLUME);
             target = from + (to - from) * lo;
         }
         let added = (target - from).norm();

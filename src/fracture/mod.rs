@@ -1,4 +1,5 @@
 //! Fracture parameters and growth criteria (Guo & Nairn 2004; Guo & Nairn 001).
+pub mod boundary3;
 pub mod criteria;
 pub mod growth;
 pub mod jintegral;

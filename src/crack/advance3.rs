@@ -1,0 +1,511 @@
+//! Advancing a 3D crack front: the new crack-surface triangles of 001 §2.3.2, Fig. 3.
+//!
+//! "If only one end of a crack segment propagates (such as segment AB), a single new crack
+//! surface element will be created (such as ABB'). If both ends of a segment propagate
+//! (such as segment BC), then four new crack surface elements are created (such as the four
+//! elements within BCC'B'). If a new crack-front segment becomes too long after
+//! propagation, say two times longer than the initial length, the segment will be broken
+//! into two, and five new crack elements will be created (such as five elements within
+//! CDD'C' with added point P1 along the long segment in the new crack front). If a
+//! crack-front segment becomes too short after propagation, say less than 25% of the
+//! initial length, the segment will be shrunk into a point, and only one new crack element
+//! will be created (such as E'F' combining to P2)." (001 §2.3.2)
+//!
+//! The rules as implemented, for a front edge a→b (directed as in its triangle: the crack
+//! surface on its left seen from above) whose ends move to a′, b′ (an end that does not
+//! move keeps its crack particle):
+//!
+//! * **one end moves** (a): the triangle (b, a, a′); the front edge becomes a′→b.
+//! * **both ends move**: the quadrilateral b, a, a′, b′ is cut into four triangles about
+//!   its centre c = ((a + b) + (a′ + b′))/4, a new crack particle: (b, a, c), (a, a′, c),
+//!   (a′, b′, c), (b′, b, c). Four triangles rather than two because a diagonal would pick
+//!   one of two mirror-image cuts: the centre keeps a mirror-symmetric front symmetric to
+//!   the bit (c and the midpoints below are symmetric in a ↔ b).
+//! * **split**: if |a′b′| > 2 L (L the edge's reference length), the midpoint p of a′b′ is
+//!   added and the quadrilateral is cut into five: (b, a, c), (a, a′, c), (a′, p, c),
+//!   (p, b′, c), (b′, b, c); the front edges a′→p and p→b′ each keep L.
+//! * **merge**: if |a′b′| < L/4 (both ends moved), a′ and b′ become one crack particle at
+//!   their midpoint m and the edge leaves one triangle (b, a, m) and no front edge; the
+//!   neighbouring edges end at m. (A short edge with one end moving is not merged: the
+//!   moving end travels away from the other along the front normal.)
+//! * **reference length** L: the edge's length when the crack was built; an edge made by
+//!   moving or splitting inherits its parent's L, so "two times longer than the initial
+//!   length" keeps meaning the initial discretisation wherever the front has gone.
+//! * **no crossing**: a new triangle may not meet any existing triangle of any crack (or
+//!   another new one) except at shared corners (exact test, [`triangles_meet`]). Every
+//!   front node whose move makes such a triangle is refused (it stays, and stops for
+//!   good, as a 2D tip that would cross a crack does), and the advance is rebuilt without
+//!   it until no triangle meets.
+//!
+//! New crack particles start with both crack surfaces at their position (as a new 2D tip
+//! particle does). Everything is a deterministic function of the inputs.
+
+use super::surface::{triangles_meet, TriangleSurface};
+use super::three_d::Crack3;
+use crate::dim::Vector3;
+use std::collections::BTreeMap;
+
+/// Split a front edge whose new length exceeds this many reference lengths.
+pub const SPLIT_RATIO: f64 = 2.0;
+/// Merge a front edge whose new length is below this many reference lengths.
+pub const MERGE_RATIO: f64 = 0.25;
+
+/// What one advance did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AdvanceReport {
+    /// Crack particles added (moved front nodes, quadrilateral centres, split points).
+    pub new_vertices: usize,
+    pub new_triangles: usize,
+    pub splits: usize,
+    pub merges: usize,
+    /// Front nodes whose move was refused because a new triangle would meet a crack.
+    pub refused: Vec<u32>,
+    /// (old front node, its new crack particle) for every node that moved (merged nodes
+    /// share one new particle).
+    pub moved: Vec<(u32, u32)>,
+}
+
+/// The triangles and front of one advance, before it is applied.
+struct Plan {
+    vertices: Vec<Vector3>,
+    moved: Vec<(u32, u32)>,
+    triangles: Vec<[u32; 3]>,
+    /// New front edges with their reference lengths, in the old front's order.
+    front: Vec<([u32; 2], f64)>,
+    /// For each new triangle, the moved front nodes it came from (for refusals).
+    sources: Vec<Vec<u32>>,
+    splits: usize,
+    merges: usize,
+}
+
+/// Advance the front of `crack`: front node `v` moves to `moves[&v]` (nodes not in
+/// `moves` stay). `front_ref[k]` is the reference length of `crack.front[k]`; both are
+/// replaced by the new front. `others` are the other cracks' surfaces (no new triangle may
+/// meet them). Returns what was done; the crack's boundary flags are recomputed.
+pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface]) -> AdvanceReport {
+    assert_eq!(front_ref.len(), crack.front.len(), "one reference length per front edge");
+    let mut moves = moves.clone();
+    let mut refused = Vec::new();
+    let plan = loop {
+        let plan = plan(crack, front_ref, &moves);
+        let bad = crossing_sources(crack, &plan, others);
+        if bad.is_empty() {
+            break plan;
+        }
+        for v in bad {
+            moves.remove(&v);
+            refused.push(v);
+        }
+    };
+    refused.sort_unstable();
+    let report = AdvanceReport {
+        new_vertices: plan.vertices.len(),
+        new_triangles: plan.triangles.len(),
+        splits: plan.splits,
+        merges: plan.merges,
+        refused,
+        moved: plan.moved.clone(),
+    };
+    let s = &mut crack.surface;
+    s.vertices.extend(&plan.vertices);
+    crack.above.extend(&plan.vertices);
+    crack.below.extend(&plan.vertices);
+    s.triangles.extend(&plan.triangles);
+    crack.front = plan.front.iter().map(|(e, _)| *e).collect();
+    *front_ref = plan.front.iter().map(|(_, l)| *l).collect();
+    let (edges, verts) = crack.surface.boundary_flags();
+    crack.boundary_edge = edges;
+    crack.boundary_vertex = verts;
+    report
+}
+
+/// Drop from the front every edge whose two ends are in `stopped` (001 §2.3.3: "If both
+/// ends of a crack-front segment are at or outside the MPM material boundary, that segment
+/// is beyond the material ... Such segments will be eliminated as a crack-front"), with
+/// their reference lengths. Returns how many were dropped.
+pub fn prune_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, stopped: &std::collections::BTreeSet<u32>) -> usize {
+    let keep: Vec<bool> = crack.front.iter().map(|e| !(stopped.contains(&e[0]) && stopped.contains(&e[1]))).collect();
+    let before = crack.front.len();
+    let mut k = 0;
+    crack.front.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    let mut k = 0;
+    front_ref.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    before - crack.front.len()
+}
+
+/// Build the new vertices, triangles and front for `moves` (no crossing test).
+fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Plan {
+    let pts = &crack.surface.vertices;
+    let first_new = pts.len() as u32;
+    let mut vertices: Vec<Vector3> = Vec::new();
+    let add = |vertices: &mut Vec<Vector3>, x: Vector3| {
+        vertices.push(x);
+        first_new + vertices.len() as u32 - 1
+    };
+    // One new crack particle per moved front node (shared by its two front edges).
+    let mut moved: BTreeMap<u32, u32> = BTreeMap::new();
+    for (&v, &x) in moves {
+        moved.insert(v, add(&mut vertices, x));
+    }
+    // Merges: both ends moved and the new edge shorter than MERGE_RATIO·L. A node in two
+    // merges (two short edges in a row) joins both into one particle: union by the lower
+    // new index, position the mean of the members' new positions.
+    let mut parent: BTreeMap<u32, u32> = moved.values().map(|&n| (n, n)).collect();
+    fn root(parent: &BTreeMap<u32, u32>, mut n: u32) -> u32 {
+        while parent[&n] != n {
+            n = parent[&n];
+        }
+        n
+    }
+    let mut merged_edge = vec![false; crack.front.len()];
+    let mut merges = 0;
+    for (k, &[a, b]) in crack.front.iter().enumerate() {
+        if let (Some(&na), Some(&nb)) = (moved.get(&a), moved.get(&b)) {
+            let (xa, xb) = (vertices[(na - first_new) as usize], vertices[(nb - first_new) as usize]);
+            if (xb - xa).norm() < MERGE_RATIO * front_ref[k] {
+                let (ra, rb) = (root(&parent, na), root(&parent, nb));
+                if ra != rb {
+                    let (lo, hi) = (ra.min(rb), ra.max(rb));
+                    parent.insert(hi, lo);
+                }
+                merged_edge[k] = true;
+                merges += 1;
+            }
+        }
+    }
+    if merges > 0 {
+        let mut groups: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+        for &n in moved.values() {
+            groups.entry(root(&parent, n)).or_default().push(n);
+        }
+        for (r, members) in &groups {
+            if members.len() > 1 {
+                // Pairwise midpoint for two members (symmetric in the pair), mean otherwise.
+                let x = if members.len() == 2 {
+                    (vertices[(members[0] - first_new) as usize] + vertices[(members[1] - first_new) as usize]) * 0.5
+                } else {
+                    members.iter().fold(Vector3::zeros(), |s, &n| s + vertices[(n - first_new) as usize]) / members.len() as f64
+                };
+                vertices[(r - first_new) as usize] = x;
+            }
+        }
+        for n in moved.values_mut() {
+            *n = root(&parent, *n);
+        }
+    }
+    let pos = |vertices: &Vec<Vector3>, n: u32| if n < first_new { pts[n as usize] } else { vertices[(n - first_new) as usize] };
+    let mut triangles = Vec::new();
+    let mut sources = Vec::new();
+    let mut front = Vec::new();
+    let mut splits = 0;
+    for (k, &[a, b]) in crack.front.iter().enumerate() {
+        let l = front_ref[k];
+        match (moved.get(&a).copied(), moved.get(&b).copied()) {
+            (None, None) => front.push(([a, b], l)),
+            (Some(na), None) => {
+                triangles.push([b, a, na]);
+                sources.push(vec![a]);
+                front.push(([na, b], l));
+            }
+            (None, Some(nb)) => {
+                triangles.push([b, a, nb]);
+                sources.push(vec![b]);
+                front.push(([a, nb], l));
+            }
+            (Some(na), Some(nb)) if merged_edge[k] || na == nb => {
+                triangles.push([b, a, na]);
+                sources.push(vec![a, b]);
+            }
+            (Some(na), Some(nb)) => {
+                let (xa, xb) = (pos(&vertices, na), pos(&vertices, nb));
+                let c = add(&mut vertices, ((pts[a as usize] + pts[b as usize]) + (xa + xb)) * 0.25);
+                let quad = if (xb - xa).norm() > SPLIT_RATIO * l {
+                    splits += 1;
+                    let p = add(&mut vertices, (xa + xb) * 0.5);
+                    front.push(([na, p], l));
+                    front.push(([p, nb], l));
+                    vec![[b, a, c], [a, na, c], [na, p, c], [p, nb, c], [nb, b, c]]
+                } else {
+                    front.push(([na, nb], l));
+                    vec![[b, a, c], [a, na, c], [na, nb, c], [nb, b, c]]
+                };
+                for t in quad {
+                    triangles.push(t);
+                    sources.push(vec![a, b]);
+                }
+            }
+        }
+    }
+    Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, splits, merges }
+}
+
+/// The moved front nodes whose new triangles meet an existing triangle (of this crack or
+/// `others`) or another new triangle, other than at shared corners.
+fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) -> Vec<u32> {
+    let pts = &crack.surface.vertices;
+    let first_new = pts.len() as u32;
+    let pos = |n: u32| if n < first_new { pts[n as usize] } else { plan.vertices[(n - first_new) as usize] };
+    let new_tris: Vec<[Vector3; 3]> = plan.triangles.iter().map(|t| t.map(pos)).collect();
+    let bbox = |t: &[Vector3; 3]| (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]));
+    let overlap = |a: &(Vector3, Vector3), b: &(Vector3, Vector3)| (0..3).all(|d| a.0[d] <= b.1[d] && b.0[d] <= a.1[d]);
+    let new_boxes: Vec<_> = new_tris.iter().map(bbox).collect();
+    let mut bad = std::collections::BTreeSet::new();
+    let mut flag = |i: usize| bad.extend(plan.sources[i].iter().copied());
+    // Against this crack's existing triangles (sharing a corner index is adjacency).
+    for tri in &crack.surface.triangles {
+        let old = tri.map(|n| pts[n as usize]);
+        let ob = bbox(&old);
+        for (i, nt) in plan.triangles.iter().enumerate() {
+            if overlap(&ob, &new_boxes[i]) && !nt.iter().any(|n| tri.contains(n)) && triangles_meet(&new_tris[i], &old) {
+                flag(i);
+            }
+        }
+    }
+    // Against the other cracks (no shared corners).
+    for s in others {
+        for tri in &s.triangles {
+            let old = tri.map(|n| s.vertices[n as usize]);
+            let ob = bbox(&old);
+            for i in 0..plan.triangles.len() {
+                if overlap(&ob, &new_boxes[i]) && triangles_meet(&new_tris[i], &old) {
+                    flag(i);
+                }
+            }
+        }
+    }
+    // New triangles among themselves.
+    for i in 0..plan.triangles.len() {
+        for j in i + 1..plan.triangles.len() {
+            if overlap(&new_boxes[i], &new_boxes[j])
+                && !plan.triangles[i].iter().any(|n| plan.triangles[j].contains(n))
+                && triangles_meet(&new_tris[i], &new_tris[j])
+            {
+                flag(i);
+                flag(j);
+            }
+        }
+    }
+    bad.into_iter().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::crack::ContactLaw;
+
+    /// A rectangular crack in z = 0 from x = 0 to 1, y = −n/2 to n/2 (so that y → −y
+    /// mirrors it exactly), as 2n triangles, with its front the edge x = 1 (directed so the
+    /// surface is on its left seen from +z).
+    fn strip(n: usize) -> (Crack3, Vec<f64>) {
+        let mut v = Vec::new();
+        for j in 0..=n {
+            let y = j as f64 - 0.5 * n as f64;
+            v.push(Vector3::new(0.0, y, 0.0));
+            v.push(Vector3::new(1.0, y, 0.0));
+        }
+        let mut t = Vec::new();
+        for j in 0..n as u32 {
+            let (a0, a1, b0, b1) = (2 * j, 2 * j + 1, 2 * j + 2, 2 * j + 3);
+            t.push([a0, a1, b1]);
+            t.push([a0, b1, b0]);
+        }
+        let s = TriangleSurface::new(v, t).unwrap();
+        let front: Vec<[u32; 2]> = (0..n as u32).map(|j| [2 * j + 1, 2 * j + 3]).collect();
+        // Check the front direction against the boundary edges.
+        let b = s.boundary_edges();
+        for e in &front {
+            assert!(b.iter().any(|&(x, y, _)| [x, y] == *e), "front edge {e:?} is not a directed boundary edge");
+        }
+        let refs = vec![1.0; front.len()];
+        (Crack3::new(s, ContactLaw::None, 0.0, 0.0, front), refs)
+    }
+
+    fn area(s: &TriangleSurface) -> f64 {
+        (0..s.triangles.len()).map(|t| s.normal(t).norm() * 0.5).sum()
+    }
+
+    fn check_valid(c: &Crack3) {
+        TriangleSurface::new(c.surface.vertices.clone(), c.surface.triangles.clone()).expect("consistently oriented surface");
+        c.surface.check_crack().expect("no self-intersection");
+        let b = c.surface.boundary_edges();
+        for e in &c.front {
+            assert!(b.iter().any(|&(x, y, _)| [x, y] == *e), "front edge {e:?} is not a directed boundary edge");
+        }
+        for t in 0..c.surface.triangles.len() {
+            assert!(c.surface.normal(t).z > 0.0, "triangle {t} faces down");
+        }
+    }
+
+    /// Every front node moved by d along x: four triangles per segment, the new front the
+    /// straight line x = 1 + d, the area grows by exactly n·d.
+    #[test]
+    fn straight_front_all_nodes_move() {
+        let n = 4;
+        let (mut c, mut refs) = strip(n);
+        let a0 = area(&c.surface);
+        let moves: BTreeMap<u32, Vector3> = c.front.iter().flatten().map(|&v| (v, c.surface.vertices[v as usize] + Vector3::new(0.5, 0.0, 0.0))).collect();
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert_eq!((r.new_vertices, r.new_triangles, r.splits, r.merges), (n + 1 + n, 4 * n, 0, 0));
+        assert!(r.refused.is_empty());
+        check_valid(&c);
+        assert_eq!(c.front.len(), n);
+        for e in &c.front {
+            assert!(e.iter().all(|&v| c.surface.vertices[v as usize].x == 1.5));
+        }
+        assert!((area(&c.surface) - a0 - 0.5 * n as f64).abs() < 1e-12);
+        assert_eq!(c.above.len(), c.surface.vertices.len());
+        assert_eq!(refs, vec![1.0; n]);
+        assert_eq!(r.moved.len(), n + 1);
+        // The two end nodes stopped at a boundary, and one interior node: only the edges
+        // with both ends stopped leave the front.
+        let new_of = |old: u32| r.moved.iter().find(|m| m.0 == old).unwrap().1;
+        let ends: std::collections::BTreeSet<u32> = [new_of(1), new_of(3), new_of(2 * n as u32 + 1)].into();
+        assert_eq!(prune_front(&mut c, &mut refs, &ends), 1, "only the edge from node 1 to node 3 has both ends stopped");
+        assert_eq!((c.front.len(), refs.len()), (n - 1, n - 1));
+    }
+
+    /// One end of a segment moves: one triangle (001 Fig. 3, ABB′).
+    #[test]
+    fn one_end_moves_one_triangle() {
+        let (mut c, mut refs) = strip(2);
+        let v = c.front[0][0];
+        let moves = BTreeMap::from([(v, c.surface.vertices[v as usize] + Vector3::new(0.4, 0.0, 0.0))]);
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert_eq!((r.new_vertices, r.new_triangles), (1, 1));
+        check_valid(&c);
+        assert_eq!(c.front.len(), 2);
+    }
+
+    /// A segment stretched past twice its reference length is split (five triangles, two
+    /// front edges); one shrunk below a quarter is merged into a point (one triangle).
+    #[test]
+    fn split_and_merge() {
+        let (mut c, mut refs) = strip(3);
+        // Fan the middle segment's ends apart: y of its ends −0.8 and +0.8.
+        let [a, b] = c.front[1];
+        let xa = c.surface.vertices[a as usize];
+        let xb = c.surface.vertices[b as usize];
+        let moves = BTreeMap::from([(a, xa + Vector3::new(0.5, -0.8, 0.0)), (b, xb + Vector3::new(0.5, 0.8, 0.0))]);
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert_eq!(r.splits, 1);
+        // Middle: 5 triangles; neighbours: one end moves, 1 triangle each.
+        assert_eq!(r.new_triangles, 5 + 2);
+        assert_eq!(c.front.len(), 4);
+        check_valid(&c);
+
+        let (mut c, mut refs) = strip(3);
+        let [a, b] = c.front[1];
+        let xa = c.surface.vertices[a as usize];
+        let xb = c.surface.vertices[b as usize];
+        let moves = BTreeMap::from([(a, xa + Vector3::new(0.5, 0.45, 0.0)), (b, xb + Vector3::new(0.5, -0.45, 0.0))]);
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert_eq!(r.merges, 1);
+        // Middle: 1 triangle (b, a, m); neighbours 1 each.
+        assert_eq!(r.new_triangles, 3);
+        assert_eq!(c.front.len(), 2, "the merged edge left the front");
+        let m = c.front[0][1];
+        assert_eq!(c.front[1][0], m, "the neighbours meet at the merged point");
+        assert_eq!(c.surface.vertices[m as usize], Vector3::new(1.5, 0.0, 0.0));
+        check_valid(&c);
+    }
+
+    /// A move that would fold the new surface back across the crack is refused: that
+    /// node stays, the rest advance.
+    #[test]
+    fn crossing_move_is_refused() {
+        let (mut c, mut refs) = strip(2);
+        // A second crack standing across x = 1.25, y ∈ [−1.5, −0.3], z ∈ [−1, 1]: the new
+        // surface of the front edge y ∈ [−1, 0] would cut it, that of y ∈ [0, 1] not.
+        let wall = TriangleSurface::new(
+            vec![Vector3::new(1.25, -1.5, -1.0), Vector3::new(1.25, -0.3, -1.0), Vector3::new(1.25, -0.3, 1.0), Vector3::new(1.25, -1.5, 1.0)],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap();
+        let moves: BTreeMap<u32, Vector3> = c.front.iter().flatten().map(|&v| (v, c.surface.vertices[v as usize] + Vector3::new(0.5, 0.0, 0.0))).collect();
+        let r = advance_front(&mut c, &mut refs, &moves, &[&wall]);
+        assert_eq!(r.refused, vec![1, 3], "the nodes at y = −1 and 0 stay");
+        assert_eq!(r.new_triangles, 1, "the edge y ∈ [0, 1] grows by one triangle (only its upper end moves)");
+        check_valid(&c);
+        for (t, tri) in c.surface.triangles.iter().enumerate() {
+            assert!(!triangles_meet(&tri.map(|n| c.surface.vertices[n as usize]), &[wall.vertices[0], wall.vertices[1], wall.vertices[2]]), "triangle {t}");
+            assert!(!triangles_meet(&tri.map(|n| c.surface.vertices[n as usize]), &[wall.vertices[0], wall.vertices[2], wall.vertices[3]]), "triangle {t}");
+        }
+    }
+
+    /// A penny crack (closed front) grown radially by half its edge length 20 times (radius
+    /// 3 → 8): the surface stays valid and closed-fronted, edges stretched past twice their
+    /// reference length are split, and every front node stays within the sagitta of a split
+    /// chord of the circle it should be on.
+    #[test]
+    fn penny_front_grows_radially_and_splits() {
+        use crate::crack::surface::{ellipse_boundary, planar_polygon};
+        let (r0, edge, step, n) = (3.0, 0.5, 0.25, 20);
+        let z = Vector3::z();
+        let s = planar_polygon(&ellipse_boundary(Vector3::zeros(), z, Vector3::x(), r0, r0, edge).unwrap(), edge).unwrap();
+        let front: Vec<[u32; 2]> = s.boundary_edges().iter().map(|&(a, b, _)| [a, b]).collect();
+        let mut refs: Vec<f64> = front.iter().map(|&[a, b]| (s.vertices[a as usize] - s.vertices[b as usize]).norm()).collect();
+        let mut c = Crack3::new(s, ContactLaw::None, 0.0, 0.0, front);
+        let n0 = c.front.len();
+        let mut splits = 0;
+        for k in 1..=n {
+            let moves: BTreeMap<u32, Vector3> = c
+                .front
+                .iter()
+                .flatten()
+                .map(|&v| {
+                    let x = c.surface.vertices[v as usize];
+                    (v, x + x.normalize() * step)
+                })
+                .collect();
+            let r = advance_front(&mut c, &mut refs, &moves, &[]);
+            assert!(r.refused.is_empty(), "advance {k}: refused {:?}", r.refused);
+            splits += r.splits;
+            check_valid(&c);
+            // Closed front: every front node starts one front edge and ends one.
+            let mut starts: Vec<u32> = c.front.iter().map(|e| e[0]).collect();
+            let mut ends: Vec<u32> = c.front.iter().map(|e| e[1]).collect();
+            starts.sort_unstable();
+            ends.sort_unstable();
+            assert_eq!(starts, ends, "advance {k}: the front is not a closed loop");
+        }
+        let r_max = c.front.iter().flatten().map(|&v| c.surface.vertices[v as usize].norm()).fold(0.0, f64::max);
+        let r_min = c.front.iter().flatten().map(|&v| c.surface.vertices[v as usize].norm()).fold(f64::INFINITY, f64::min);
+        // Radius 3 → 8: edges of ~0.5 stretch past 1.0 near radius 6 and split. A split
+        // point is a chord's midpoint, inside the circle by the sagitta (≈ 0.02 for a chord
+        // of 1 at radius 6), and then moves radially like the rest.
+        assert!((r_max - (r0 + n as f64 * step)).abs() < 1e-12, "r_max {r_max}");
+        assert!(r_max - r_min < 0.05, "front radii spread {r_min}..{r_max}");
+        assert!(splits >= n0 / 2, "{splits} splits of {n0} edges");
+        assert_eq!(c.front.len(), n0 + splits);
+        println!("penny: {n0} front edges, {splits} splits, radii {r_min}..{r_max}, {} triangles", c.surface.triangles.len());
+    }
+
+    /// Mirror symmetry: moves mirror-symmetric about y = 0 (the strip is) give new crack
+    /// particles that are mirror images of each other to the bit.
+    #[test]
+    fn mirrored_front_gives_mirrored_points() {
+        let n = 4;
+        let (mut c, mut refs) = strip(n);
+        let moves: BTreeMap<u32, Vector3> = c
+            .front
+            .iter()
+            .flatten()
+            .map(|&v| {
+                let x = c.surface.vertices[v as usize];
+                (v, x + Vector3::new(0.3 + 0.1 * x.y * x.y, 0.07 * x.y * x.y.abs(), 0.0))
+            })
+            .collect();
+        advance_front(&mut c, &mut refs, &moves, &[]);
+        check_valid(&c);
+        for v in &c.surface.vertices {
+            let m = Vector3::new(v.x, -v.y, v.z);
+            assert!(c.surface.vertices.iter().any(|w| w.x.to_bits() == m.x.to_bits() && w.y == m.y && w.z.to_bits() == m.z.to_bits()), "mirror of {v:?} missing");
+        }
+    }
+}
