@@ -36,8 +36,16 @@
 //! about 2H·W0 before the next one (the freshly added segment is released at once, and the
 //! new tip's field builds up over a few h/c_d, like a suddenly extended crack), so its
 //! mean over steady growth falls with speed — 0.71, 0.54, 0.38 × 2H·W0 at 0.2, 0.4,
-//! 0.6 c_R — independently of the cell size and of the contour. The full variant holds
-//! that mean to the reference and fails (issue 20).
+//! 0.6 c_R — independently of the cell size and of the contour. Case `growth_strip_j`
+//! holds that mean to the reference and fails (issue 20).
+//!
+//! **Crack-face contact.** The scene's faces are frictionless with the opening detection,
+//! which never acts on the open flanks. With the volume detection (the default) every
+//! approach of the oscillating flanks counts as contact, and with USAVG the energy grows
+//! (2.0 × the released energy at 0.4 c_R; `growth_strip_j` holds it to the balance and
+//! fails): the stress updates use momenta contacted at other points of the step than the
+//! ones that move the particles (docs/verification.md, "The energy released by a growing
+//! crack").
 
 use crate::fracture::growth::GrowthRecord;
 use crate::fracture::jintegral::TipEnd;
