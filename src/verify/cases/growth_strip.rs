@@ -42,7 +42,7 @@
 //! **Crack-face contact.** The scene's faces are frictionless with the opening detection,
 //! which never acts on the open flanks. With the volume detection (the default) every
 //! approach of the oscillating flanks counts as contact, and with USAVG the energy grows
-//! (2.0 × the released energy at 0.4 c_R; `growth_strip_j` holds it to the balance and
+//! (2.1 × the released energy at 0.4 c_R; `growth_strip_j` holds it to the balance and
 //! fails): the stress updates use momenta contacted at other points of the step than the
 //! ones that move the particles (docs/verification.md, "The energy released by a growing
 //! crack").
