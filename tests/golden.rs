@@ -108,6 +108,7 @@ golden_case!(
     pmma_tpb_offcentre,
     mode_ii_kink,
     dcb_growth,
+    growth_strip,
     plates_k,
     mpm_vs_fea,
     fea_penny_3d,

@@ -54,6 +54,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("fea_extrusion_2d.toml", include_str!("../../verification/fea_extrusion_2d.toml")),
     ("fea_extrusion_3d.toml", include_str!("../../verification/fea_extrusion_3d.toml")),
     ("fea_penny_3d.toml", include_str!("../../verification/fea_penny_3d.toml")),
+    ("growth_strip.toml", include_str!("../../verification/growth_strip.toml")),
     ("hanging_sent.toml", include_str!("../../verification/hanging_sent.toml")),
     ("mode_ii_kink.toml", include_str!("../../verification/mode_ii_kink.toml")),
     ("mpm_vs_fea_3d.toml", include_str!("../../verification/mpm_vs_fea_3d.toml")),

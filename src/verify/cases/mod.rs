@@ -14,6 +14,7 @@ pub mod fea;
 pub mod fea3d;
 pub mod fracture;
 pub mod growth;
+pub mod growth_strip;
 pub mod impact;
 pub mod plates;
 pub mod stability;
@@ -47,6 +48,8 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "pmma_tpb_offcentre", run: growth::run_offcentre },
     Case { name: "mode_ii_kink", run: growth::run_mode_ii },
     Case { name: "dcb_growth", run: growth::run_dcb_growth },
+    Case { name: "growth_strip", run: growth_strip::run },
+    Case { name: "growth_strip_j", run: growth_strip::run_j },
     Case { name: "plates_k", run: plates::run },
     Case { name: "mpm_vs_fea", run: fea::run_mpm_vs_fea },
     Case { name: "fea_penny_3d", run: fea3d::run_penny },
