@@ -85,6 +85,8 @@ pub struct Summary3 {
 #[derive(Clone, Debug)]
 pub struct RunResult3 {
     pub history: Vec<HistoryRow3>,
+    /// J and K at the requested front nodes at each history time after t = 0 (cracks.csv).
+    pub fronts: Vec<crate::fracture::front3::FrontResult>,
     pub summary: Summary3,
     pub sim: Simulation<D3>,
 }
@@ -141,6 +143,28 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
     if let Some(f) = &mut rows {
         f.row(&history[0].csv())?;
     }
+    // J and K along the fronts (cracks.csv), at the history times after t = 0 (the nodal
+    // values of eq. 11 need a completed step).
+    let requests = scene.front_requests(&sim.cracks)?;
+    let wants_j = requests.iter().any(Option::is_some);
+    let mut fronts = Vec::new();
+    let mut front_rows = match &opts.out_dir {
+        Some(dir) if wants_j => Some(super::RowFile::create(dir.join("cracks.csv"), crate::fracture::front3::FrontResult::HEADER)?),
+        _ => None,
+    };
+    let mut record_fronts = |s: &Simulation<D3>, fronts: &mut Vec<crate::fracture::front3::FrontResult>| -> anyhow::Result<()> {
+        if !wants_j || s.step_count == 0 {
+            return Ok(());
+        }
+        let new = s.front_parameters(&requests);
+        if let Some(f) = &mut front_rows {
+            for r in &new {
+                f.row(&r.csv())?;
+            }
+        }
+        fronts.extend(new);
+        Ok(())
+    };
     let mut next_hist = hist_dt;
     let mut snapshots: Vec<(f64, usize, String)> = Vec::new();
     let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
@@ -177,6 +201,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
                 if let Some(f) = &mut rows {
                     f.row(&row.csv())?;
                 }
+                record_fronts(s, &mut fronts)?;
                 while next_hist <= s.time + half {
                     next_hist += hist_dt;
                 }
@@ -215,6 +240,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         if let Some(f) = &mut rows {
             f.row(&row.csv())?;
         }
+        record_fronts(&sim, &mut fronts)?;
     }
     let summary = Summary3 {
         status,
@@ -245,7 +271,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
             None => e.context(at),
         });
     }
-    Ok(RunResult3 { history, summary, sim })
+    Ok(RunResult3 { history, fronts, summary, sim })
 }
 
 /// 3D particle snapshot in legacy VTK, particles sorted by id.
