@@ -576,9 +576,14 @@ pub fn clip_to_box(poly: &[Vector3], lo: Vector3, hi: Vector3) -> Vec<Vector3> {
             }
         }
     }
-    // Remove repeated consecutive points the clipping may create.
-    out.dedup();
-    while out.len() > 1 && out.first() == out.last() {
+    // Remove repeated consecutive points the clipping may create, and points a hair
+    // apart (a polygon vertex within round-off of the box face, e.g. a disc's point on a
+    // semi-axis at cos(π/2) ≈ 6e−17 from the plane, and the cut point on the face):
+    // closer than 1e−9 of the polygon's extent.
+    let (blo, bhi) = out.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), v| (l.inf(v), h.sup(v)));
+    let tol = 1e-9 * (bhi - blo).norm();
+    out.dedup_by(|a, b| (*a - *b).norm() <= tol);
+    while out.len() > 1 && (out[0] - out[out.len() - 1]).norm() <= tol {
         out.pop();
     }
     out

@@ -228,8 +228,11 @@ pub fn front_frames(crack: &Crack3) -> Vec<(u32, FrontFrame)> {
 
 /// The crack-face jump (above − below) of the crack surface at the point of the
 /// crack-particle surface nearest to q along the local normal: barycentric interpolation
-/// in the triangle whose prism holds q (the most interior one if several do). None if no
-/// triangle does.
+/// in the triangle whose prism holds q (the most interior one if several do). A q just
+/// outside the surface (the point behind a front node at the end of a front, on the
+/// surface's outer edge, can fall a hair outside by round-off of the frame) takes the
+/// nearest triangle's value with its barycentric coordinates clamped, if no coordinate
+/// is below −¼; None otherwise.
 pub fn opening_at(crack: &Crack3, q: &Vector3) -> Option<Vector3> {
     let s = &crack.surface;
     let mut best: Option<(f64, usize, [f64; 3])> = None;
@@ -245,11 +248,16 @@ pub fn opening_at(crack: &Crack3, q: &Vector3) -> Option<Vector3> {
         let l1 = (c - q).cross(&(a - q)).dot(&n) / nn;
         let l2 = 1.0 - l0 - l1;
         let m = l0.min(l1).min(l2);
-        if m >= -1e-9 && best.is_none_or(|(bm, _, _)| m > bm) {
+        if m >= -0.25 && best.is_none_or(|(bm, _, _)| m > bm) {
             best = Some((m, t, [l0, l1, l2]));
         }
     }
-    let (_, t, l) = best?;
+    let (m, t, mut l) = best?;
+    if m < 0.0 {
+        l = l.map(|x| x.max(0.0));
+        let s = l[0] + l[1] + l[2];
+        l = l.map(|x| x / s);
+    }
     let tri = s.triangles[t];
     Some((0..3).fold(Vector3::zeros(), |acc, k| acc + crack.opening(tri[k] as usize) * l[k]))
 }
