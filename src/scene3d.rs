@@ -217,9 +217,55 @@ pub struct CrackSpec3 {
     /// Only "volume" in 3D.
     #[serde(default)]
     pub detection: crate::crack::ContactDetection,
-    /// J and K along the front: issue 16 (refused until then).
+    /// J, K_I, K_II, K_III at the crack's front nodes ([`crate::fracture::front3`]),
+    /// written to cracks.csv at the history interval. Omitted: not computed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fracture: Option<toml::Value>,
+    pub fracture: Option<FractureSpec3>,
+}
+
+/// `cracks[].fracture` of a 3D crack: where and how J and K are evaluated along the front
+/// (paper 001 §2.2, Fig. 2; [`crate::fracture::front3`]).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FractureSpec3 {
+    /// Which front nodes: "all" (default) or `{ box = { min, max } }`, those in a box.
+    #[serde(default)]
+    pub nodes: FrontNodesSpec,
+    /// Radius of the circular contour in the (x1, x2) plane, in cells (the smallest cell
+    /// size); default 2.
+    #[serde(default = "default_front_radius")]
+    pub radius: f64,
+    /// Trapezoid intervals on the circle, face to face (default 16: exact for the K fields).
+    #[serde(default = "default_front_intervals")]
+    pub intervals: usize,
+    /// Add the volume term over the particles in the short cylinder (default false).
+    #[serde(default)]
+    pub volume_term: bool,
+    /// Distance behind the front, in cells, at which the crack opening that splits J into
+    /// K_I, K_II, K_III is read (default 1).
+    #[serde(default = "default_cod_behind")]
+    pub cod_behind: f64,
+}
+
+fn default_front_radius() -> f64 {
+    2.0
+}
+fn default_front_intervals() -> usize {
+    16
+}
+fn default_cod_behind() -> f64 {
+    1.0
+}
+
+/// The front nodes a `fracture` table asks for.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum FrontNodesSpec {
+    /// Every crack particle on the front (inside the material).
+    #[default]
+    All,
+    /// The front nodes inside a box (bounds included).
+    Box { min: [f64; 3], max: [f64; 3] },
 }
 
 /// The shape of a 3D crack surface. Its normals (the "above" side) follow the right-hand
@@ -850,6 +896,7 @@ impl Scene3 {
         let body_force = self.bodies.iter().map(|b| v3(b.body_force)).collect();
         let thickness = vec![1.0; self.bodies.len()];
         let cracks = self.crack_surfaces(&grid, &meshes)?;
+        self.front_requests(&cracks)?;
         Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options))
     }
 
@@ -858,8 +905,23 @@ impl Scene3 {
     fn validate_cracks(&self) -> Result<(), SceneError> {
         for (i, c) in self.cracks.iter().enumerate() {
             let f = |n: &str| format!("cracks[{i}].{n}");
-            if c.fracture.is_some() {
-                return Err(invalid(f("fracture"), "J and K along 3D crack fronts are not built yet (issue 16); remove the table"));
+            if let Some(fr) = &c.fracture {
+                positive(&f("fracture.radius"), fr.radius)?;
+                let cells = self.grid.size.iter().zip(&self.grid.cell).map(|(s, h)| s / h).fold(0.0, f64::max);
+                if fr.radius > cells {
+                    return Err(invalid(f("fracture.radius"), format!("{} cells is more than the grid has ({cells} cells a side)", fr.radius)));
+                }
+                if !(2..=4096).contains(&fr.intervals) {
+                    return Err(invalid(f("fracture.intervals"), format!("must be 2 to 4096, got {}", fr.intervals)));
+                }
+                positive(&f("fracture.cod_behind"), fr.cod_behind)?;
+                if let FrontNodesSpec::Box { min, max } = &fr.nodes {
+                    finite3(&f("fracture.nodes.box.min"), min)?;
+                    finite3(&f("fracture.nodes.box.max"), max)?;
+                    if (0..3).any(|a| min[a] > max[a]) {
+                        return Err(invalid(f("fracture.nodes.box"), format!("min {min:?} exceeds max {max:?}")));
+                    }
+                }
             }
             if c.detection != crate::crack::ContactDetection::Volume {
                 return Err(invalid(f("detection"), "3D crack contact is detected by the relative nodal volume only; remove the field or set \"volume\""));
@@ -996,6 +1058,45 @@ impl Scene3 {
             let mut crack = crate::crack::three_d::Crack3::new(surface, c.contact.law(), c.v_sep, c.v_contact, front);
             crack.detection = c.detection;
             out.push(crack);
+        }
+        Ok(out)
+    }
+
+    /// Per crack, the J/K request of its `fracture` table (None: not computed), with the
+    /// front nodes resolved on the built cracks: the vertices of the front edges that lie
+    /// in a body (within 1e−6 of a cell of one: nodes on a body's face count) and in the
+    /// table's box. An error names the table when it selects no front node.
+    pub fn front_requests(&self, cracks: &[crate::crack::three_d::Crack3]) -> Result<Vec<Option<crate::fracture::front3::FrontRequest>>, SceneError> {
+        let h = self.grid.cell.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+        let mut meshes = None;
+        let mut out = Vec::with_capacity(self.cracks.len());
+        for (i, (spec, crack)) in self.cracks.iter().zip(cracks).enumerate() {
+            let Some(fr) = &spec.fracture else {
+                out.push(None);
+                continue;
+            };
+            if meshes.is_none() {
+                meshes = Some(self.load_meshes()?);
+            }
+            let meshes = meshes.as_ref().expect("loaded");
+            let inside = |x: &Vector3| {
+                let hair = 1e-6 * h;
+                std::iter::once(*x).chain((0..6).map(|k| { let mut y = *x; y[k / 2] += if k % 2 == 0 { hair } else { -hair }; y })).any(|y| self.bodies.iter().enumerate().any(|(k, b)| b.shape.contains(&y, meshes[k].as_ref())))
+            };
+            let in_box = |x: &Vector3| match &fr.nodes {
+                FrontNodesSpec::All => true,
+                FrontNodesSpec::Box { min, max } => (0..3).all(|a| x[a] >= min[a] && x[a] <= max[a]),
+            };
+            let mut nodes: Vec<u32> = crack.front.iter().flatten().copied().filter(|&v| {
+                let x = crack.surface.vertices[v as usize];
+                inside(&x) && in_box(&x)
+            }).collect();
+            nodes.sort_unstable();
+            nodes.dedup();
+            if nodes.is_empty() {
+                return Err(invalid(format!("cracks[{i}].fracture.nodes"), format!("selects no front node (the crack has {} front edges)", crack.front.len())));
+            }
+            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h }));
         }
         Ok(out)
     }

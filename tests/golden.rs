@@ -120,5 +120,7 @@ golden_case!(
     block_3d,
     extrusion_2d_3d,
     cracked_spheres_3d,
-    crack_friction_3d
+    crack_friction_3d,
+    front_j_slab,
+    front_j_penny
 );

@@ -234,9 +234,17 @@ fn bad_crack_numbers() {
 }
 
 #[test]
-fn fracture_table_and_opening_detection_are_refused_in_3d() {
-    let t = with_crack(&format!("{GOOD_CRACK}\nfracture = {{ j_contour = 2 }}"));
-    expect_invalid(&t, None, "cracks[0].fracture", &["issue 16"]);
+fn bad_fracture_tables_and_opening_detection_are_refused_in_3d() {
+    // The 2D table's fields are not the 3D one's.
+    expect_message(&with_crack(&format!("{GOOD_CRACK}\nfracture = {{ contour = 2 }}")), &["contour"]);
+    let fr = |t: &str| with_crack(&format!("{GOOD_CRACK}\nfracture = {{ {t} }}"));
+    expect_invalid(&fr("radius = 0.0"), None, "cracks[0].fracture.radius", &[]);
+    expect_invalid(&fr("radius = 1000.0"), None, "cracks[0].fracture.radius", &["cells"]);
+    expect_invalid(&fr("intervals = 1"), None, "cracks[0].fracture.intervals", &["2 to 4096"]);
+    expect_invalid(&fr("cod_behind = -1.0"), None, "cracks[0].fracture.cod_behind", &[]);
+    expect_invalid(&fr("nodes = { box = { min = [0.0, 0.0, 0.0], max = [1.0, -1.0, 1.0] } }"), None, "cracks[0].fracture.nodes.box", &["exceeds"]);
+    // GOOD_CRACK reaches past the body on every side: it has no front in the material.
+    expect_invalid(&fr(""), None, "cracks[0].fracture.nodes", &["no front node"]);
     let t = with_crack(&format!("{GOOD_CRACK}\ndetection = \"opening\""));
     expect_invalid(&t, None, "cracks[0].detection", &["volume"]);
 }

@@ -576,9 +576,24 @@ pub fn clip_to_box(poly: &[Vector3], lo: Vector3, hi: Vector3) -> Vec<Vector3> {
             }
         }
     }
-    // Remove repeated consecutive points the clipping may create.
-    out.dedup();
-    while out.len() > 1 && out.first() == out.last() {
+    // Points within round-off of a box face are put on it (a disc's point on a semi-axis
+    // lies cos(π/2)·r ≈ 6e−16 r off the plane x = 0: left there, the crack's edge on a
+    // symmetry plane is a hair inside the body, the grid nodes of that plane lie just
+    // beyond the crack instead of on it, and they glue its faces together); then repeated
+    // consecutive points, and points closer than 1e−9 of the polygon's extent, are removed.
+    let (blo, bhi) = out.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), v| (l.inf(v), h.sup(v)));
+    let tol = 1e-9 * (bhi - blo).norm();
+    for x in out.iter_mut() {
+        for axis in 0..3 {
+            for bound in [lo[axis], hi[axis]] {
+                if (x[axis] - bound).abs() <= tol {
+                    x[axis] = bound;
+                }
+            }
+        }
+    }
+    out.dedup_by(|a, b| (*a - *b).norm() <= tol);
+    while out.len() > 1 && (out[0] - out[out.len() - 1]).norm() <= tol {
         out.pop();
     }
     out

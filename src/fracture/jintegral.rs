@@ -537,7 +537,7 @@ impl Simulation {
 /// force of the last step (eq. 2, after contact) less the loads and body forces and less
 /// the damping force −κp, over the mass — (∇·σ)/ρ plus the crack-face contact (module
 /// doc, "Which acceleration").
-pub fn area_acceleration(fa: &crate::grid::FieldArrays, node: usize, kappa: f64) -> Vector {
+pub fn area_acceleration<V: crate::dim::VectorOps>(fa: &crate::grid::FieldArrays<V>, node: usize, kappa: f64) -> V {
     (fa.ftot[node] - fa.fext[node] + fa.mom[node] * kappa) / fa.mass[node]
 }
 

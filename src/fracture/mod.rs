@@ -1,6 +1,7 @@
 //! Fracture parameters and growth criteria (Guo & Nairn 2004; Guo & Nairn 001).
 pub mod boundary3;
 pub mod criteria;
+pub mod front3;
 pub mod growth;
 pub mod jintegral;
 pub mod nodal;

@@ -156,6 +156,7 @@ pub fn is_cramp_output(name: &str) -> bool {
         "history.csv" | "summary.json" | "cracks.csv" | "growth.csv" | "crack_paths.csv" | "particles.pvd" | "fea.vtk" | "fea_gauss.vtk" | "fea_nodes.csv" | "fea_summary.json"
     ) || numbered("particles_", ".vtk")
         || numbered("cracks_", ".vtk")
+        || numbered("front_", ".vtk")
         || (name.starts_with("probe_") && name.ends_with(".csv"))
 }
 

@@ -85,6 +85,8 @@ pub struct Summary3 {
 #[derive(Clone, Debug)]
 pub struct RunResult3 {
     pub history: Vec<HistoryRow3>,
+    /// J and K at the requested front nodes at each history time after t = 0 (cracks.csv).
+    pub fronts: Vec<crate::fracture::front3::FrontResult>,
     pub summary: Summary3,
     pub sim: Simulation<D3>,
 }
@@ -141,6 +143,28 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
     if let Some(f) = &mut rows {
         f.row(&history[0].csv())?;
     }
+    // J and K along the fronts (cracks.csv), at the history times after t = 0 (the nodal
+    // values of eq. 11 need a completed step).
+    let requests = scene.front_requests(&sim.cracks)?;
+    let wants_j = requests.iter().any(Option::is_some);
+    let mut fronts = Vec::new();
+    let mut front_rows = match &opts.out_dir {
+        Some(dir) if wants_j => Some(super::RowFile::create(dir.join("cracks.csv"), crate::fracture::front3::FrontResult::HEADER)?),
+        _ => None,
+    };
+    let mut record_fronts = |s: &Simulation<D3>, fronts: &mut Vec<crate::fracture::front3::FrontResult>| -> anyhow::Result<()> {
+        if !wants_j || s.step_count == 0 {
+            return Ok(());
+        }
+        let new = s.front_parameters(&requests);
+        if let Some(f) = &mut front_rows {
+            for r in &new {
+                f.row(&r.csv())?;
+            }
+        }
+        fronts.extend(new);
+        Ok(())
+    };
     let mut next_hist = hist_dt;
     let mut snapshots: Vec<(f64, usize, String)> = Vec::new();
     let mut next_arch = arch_dt.unwrap_or(f64::INFINITY);
@@ -154,6 +178,12 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
                 let name = format!("cracks_{archived:05}.vtk");
                 write_atomically(&dir.join(&name), |tmp| write_crack_snapshot_3d(s, tmp))?;
                 snapshots.push((s.time, 1, name));
+            }
+            if wants_j && s.step_count > 0 {
+                let name = format!("front_{archived:05}.vtk");
+                let results = s.front_parameters(&requests);
+                write_atomically(&dir.join(&name), |tmp| write_front_snapshot_3d(&results, s.time, tmp))?;
+                snapshots.push((s.time, 2, name));
             }
             archived += 1;
             write_atomically(&dir.join("particles.pvd"), |tmp| write_pvd_parts(tmp, snapshots))?;
@@ -177,6 +207,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
                 if let Some(f) = &mut rows {
                     f.row(&row.csv())?;
                 }
+                record_fronts(s, &mut fronts)?;
                 while next_hist <= s.time + half {
                     next_hist += hist_dt;
                 }
@@ -215,6 +246,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         if let Some(f) = &mut rows {
             f.row(&row.csv())?;
         }
+        record_fronts(&sim, &mut fronts)?;
     }
     let summary = Summary3 {
         status,
@@ -245,7 +277,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
             None => e.context(at),
         });
     }
-    Ok(RunResult3 { history, summary, sim })
+    Ok(RunResult3 { history, fronts, summary, sim })
 }
 
 /// 3D particle snapshot in legacy VTK, particles sorted by id.
@@ -299,4 +331,39 @@ pub fn write_crack_snapshot_3d(sim: &Simulation<D3>, path: &Path) -> anyhow::Res
     }
     vtk::write_triangles(path, &format!("cramp cracks t={:e}", sim.time), &pts, &tris, &[("opening", &opening)], &[("crack", &crack), ("surface", &surface)])
         .with_context(|| format!("cannot write crack snapshot {}", path.display()))
+}
+
+/// The front nodes with J and K (`fracture` tables) in legacy VTK, one vertex per node:
+/// scalars `crack`, `node`, `j1`, `j2`, `k1`, `k2`, `k3` and `k_valid` (0 where the opening
+/// behind the node could not be read; K written as 0 there, VTK holds no NaN), vectors
+/// `e1`, `e2` (the local frame). Nodes without a frame are left out.
+pub fn write_front_snapshot_3d(results: &[crate::fracture::front3::FrontResult], time: f64, path: &Path) -> anyhow::Result<()> {
+    let r: Vec<_> = results.iter().filter(|f| f.frame.e1.iter().all(|c| c.is_finite()) && f.j1.is_finite()).collect();
+    let pos: Vec<Vector3> = r.iter().map(|f| f.x).collect();
+    let col = |g: &dyn Fn(&crate::fracture::front3::FrontResult) -> f64| -> Vec<f64> { r.iter().map(|f| g(f)).collect() };
+    let valid = |f: &crate::fracture::front3::FrontResult| f.k.iter().all(|k| k.is_finite());
+    let k = |a: usize| col(&|f| if valid(f) { f.k[a] } else { 0.0 });
+    let (crack, node, j1, j2) = (col(&|f| f.crack as f64), col(&|f| f.node as f64), col(&|f| f.j1), col(&|f| f.j2));
+    let (k1, k2, k3, kv) = (k(0), k(1), k(2), col(&|f| valid(f) as u8 as f64));
+    let j2 = j2.into_iter().map(|x| if x.is_finite() { x } else { 0.0 }).collect::<Vec<_>>();
+    let e1: Vec<Vector3> = r.iter().map(|f| f.frame.e1).collect();
+    let e2: Vec<Vector3> = r.iter().map(|f| f.frame.e2).collect();
+    vtk::write_points_3d(
+        path,
+        &format!("cramp crack fronts t={time:e}"),
+        &pos,
+        &[
+            ("crack", PointData::Scalar(&crack)),
+            ("node", PointData::Scalar(&node)),
+            ("j1", PointData::Scalar(&j1)),
+            ("j2", PointData::Scalar(&j2)),
+            ("k1", PointData::Scalar(&k1)),
+            ("k2", PointData::Scalar(&k2)),
+            ("k3", PointData::Scalar(&k3)),
+            ("k_valid", PointData::Scalar(&kv)),
+            ("e1", PointData::Vector3(&e1)),
+            ("e2", PointData::Vector3(&e2)),
+        ],
+    )
+    .with_context(|| format!("cannot write front snapshot {}", path.display()))
 }
