@@ -17,7 +17,8 @@
 //!   Status (full, measured 2026-12-02): passes. DCB to t = 120: energies 2.1e-16,
 //!   fields ≤ 2.7e-14, crack particles 3.3e-15 and crack surfaces 6.6e-15 of the largest
 //!   crack displacement; disks to 45 ms (through the impact and rebound): energies
-//!   5.4e-16, fields ≤ 3.2e-13, crack particles 3.9e-15, surfaces: see the report. Two
+//!   5.4e-16, fields ≤ 3.2e-13, crack particles 3.9e-15, surfaces 4.6e-15 (372 s for
+//!   both on a loaded 2-core host). Two
 //!   causes of difference were found by comparing, at the first step where the 2D and 3D
 //!   crack surfaces differ by more than 1e-12, the nodes, weights and chosen fields of
 //!   the worst surface point:
