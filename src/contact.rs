@@ -92,7 +92,7 @@ impl<S: Dimension> Simulation<S> {
         let dt = self.options.dt;
         let cell = self.grid.cell_measure();
         let mut nodes = std::mem::take(&mut self.nodes);
-        for &node in &nodes.active {
+        for (a_idx, &node) in nodes.active.iter().enumerate() {
             let i = node as usize;
             let Some((a, b)) = above_below(nodes.present[i]) else { continue };
             let c = nodes.crack[i] as usize;
@@ -107,7 +107,7 @@ impl<S: Dimension> Simulation<S> {
             let n = nodes.normal[i];
             let (dv, forced) = match crack.detection() {
                 ContactDetection::Volume => {
-                    let v_rel = nodes.volume[i] / cell;
+                    let v_rel = nodes.volume[i] / cell * self.mirror_factor(a_idx, i);
                     if v_rel < crack.v_sep() {
                         continue;
                     }
@@ -146,6 +146,47 @@ impl<S: Dimension> Simulation<S> {
         }
         self.nodes = nodes;
         Ok(())
+    }
+
+    /// The factor that makes the nodal volume of eq. 27 at a node on a boundary plane
+    /// comparable with the cell volume of eq. 10: 2 for every axis c along which the node
+    /// has a prescribed velocity (a wall, a roller, a clamp) and every particle it sees lies
+    /// strictly on one side of its plane x_c = const; 1 otherwise.
+    ///
+    /// Why: V_rel = V_i / V_cell (Nairn 2003 eqs. 8–10) reads "how full of material is the
+    /// node's support", and reaches 1 at an interior node of intact material. A node on a
+    /// plane the material cannot cross has material on one side only, so its V_rel is at
+    /// most 1/2 even with the crack closed and would never reach V_sep (0.9 in the paper):
+    /// contact would never act there. A frictionless wall — in particular the roller
+    /// (v_c = 0) that makes a 3D slab plane strain — is a symmetry plane, and the mirror
+    /// image of the material beyond it adds the same volume again; so V_rel there is twice
+    /// the one-sided ratio, and an extrusion in z with rollers on both z faces detects
+    /// contact at its face nodes exactly as the interior ones and as the 2D run does
+    /// (case `cracks_2d_3d`). Only nodes a crack splits, with contact on, and a
+    /// prescribed component reach this test.
+    fn mirror_factor(&self, a: usize, i: usize) -> f64 {
+        let mask = self.bcs.mask.get(i).copied().unwrap_or(0);
+        if mask == 0 {
+            return 1.0;
+        }
+        let xn = self.grid.node_pos(i);
+        let p = &self.particles;
+        let mut factor = 1.0;
+        for c in 0..S::DIM {
+            if mask & (1 << c) == 0 {
+                continue;
+            }
+            let (mut below, mut above) = (false, false);
+            for &item in self.pairs.of_active(a) {
+                let x = p.x[item as usize / S::MAX_NODES][c];
+                below |= x <= xn[c];
+                above |= x >= xn[c];
+            }
+            if below != above {
+                factor *= 2.0;
+            }
+        }
+        factor
     }
 }
 

@@ -337,6 +337,15 @@ pub fn closest_on_triangle(x: &Vector3, a: &Vector3, b: &Vector3, c: &Vector3) -
     (a + ab * v + ac * w, [1.0 - v - w, v, w])
 }
 
+/// Whether the perpendicular projection of x onto the plane of triangle (a, b, c) lies
+/// in the closed triangle: ((v_{k+1} − v_k) × (x − v_k))·n ≥ 0 for its three edges, n its
+/// normal (the component of x − v_k along n drops out of each product, so x itself is
+/// used). In floating point, as the 2D rule's parameter test 0 ≤ t ≤ 1.
+pub fn projects_into(x: &Vector3, v: &[Vector3; 3]) -> bool {
+    let n = (v[1] - v[0]).cross(&(v[2] - v[0]));
+    (0..3).all(|k| (v[(k + 1) % 3] - v[k]).cross(&(x - v[k])).dot(&n) >= 0.0)
+}
+
 impl TriangleIndex {
     /// Rebuild for `points`/`triangles` with buckets of about `bucket` per side.
     pub fn rebuild(&mut self, points: &[Vector3], triangles: &[[u32; 3]], bucket: f64) {
@@ -432,6 +441,25 @@ impl TriangleIndex {
             }
         }
         best.map(|(_, t, [a, b, c])| (t as usize, closest_on_triangle(x, &a, &b, &c).1))
+    }
+
+    /// The triangle nearest x within `reach` (strictly) among those onto whose closed
+    /// area x projects perpendicularly (ties: lowest index) — the 3D form of the 2D rule
+    /// of `crack::side_of` (the nearest segment whose closed interior x projects onto).
+    /// Candidates come from the tree in non-decreasing distance; for a triangle x projects
+    /// into, that distance is the distance to its plane, so the first accepted one and any
+    /// others at the same distance are all the candidates.
+    pub fn nearest_projecting(&self, x: &Vector3, reach: f64) -> Option<usize> {
+        let mut best: Option<(f64, u32)> = None;
+        for (e, d) in self.tree.nearest_neighbor_iter_with_distance_2([x.x, x.y, x.z]) {
+            if d >= reach * reach || best.is_some_and(|(bd, _)| d > bd) {
+                break;
+            }
+            if projects_into(x, &e.corners) && best.is_none_or(|(_, bt)| e.t < bt) {
+                best = Some((d, e.t));
+            }
+        }
+        best.map(|(_, t)| t as usize)
     }
 
     /// Bucket coordinates of x, clamped to the grid of buckets.
@@ -596,5 +624,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The node-side rule of Task 7 and the crossing check, as in 2D: a point beyond the
+    /// front or in the wedge outside a convex kink projects onto no triangle (unknown); a
+    /// point level with the front, or on the line between two rows, projects onto the
+    /// closed triangles there (known).
+    #[test]
+    fn nearest_projecting_follows_the_2d_rule() {
+        let v = |x: f64, y: f64, z: f64| Vector3::new(x, y, z);
+        // Two strips along z, kinked at x = 1: y = 0 for 0 ≤ x ≤ 1, then rising at 45°.
+        let verts = vec![v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(2.0, 1.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 0.0, 1.0), v(2.0, 1.0, 1.0)];
+        let tris = vec![[0, 3, 4], [0, 4, 1], [1, 4, 5], [1, 5, 2]];
+        let s = TriangleSurface::new(verts, tris).unwrap();
+        let mut idx = TriangleIndex::default();
+        idx.rebuild(&s.vertices, &s.triangles, 0.5);
+        let hit = |x: Vector3| idx.nearest_projecting(&x, 2.0);
+        // Over the flat strip, below it (normal (0,0,1)×... points to -y here: either way a triangle).
+        assert!(matches!(hit(v(0.5, -0.5, 0.5)), Some(0 | 1)));
+        // In the wedge outside the kink (below it, x a little past 1): neither strip's range.
+        assert_eq!(hit(v(1.1, -0.2, 0.5)), None);
+        // Level with the outer edge x = 0 (closed): known; beyond it: unknown.
+        assert!(hit(v(0.0, 0.5, 0.5)).is_some());
+        assert_eq!(hit(v(-0.1, 0.5, 0.5)), None);
+        // Beyond the z edges, or farther than reach: unknown.
+        assert_eq!(hit(v(0.5, 0.5, 1.2)), None);
+        assert_eq!(hit(v(0.5, 2.5, 0.5)), None);
     }
 }

@@ -226,20 +226,16 @@ fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> Che
 }
 
 /// +1 above, −1 below the crack near x, 0 unknown: the exact side of x relative to the
-/// plane of the nearest triangle within `reach`, unknown when there is none or the nearest
-/// point lies on the surface's boundary (beyond the front or an outer edge) — the 3D
-/// counterpart of the 2D `side_of` (a point whose projection falls inside a segment).
+/// plane of the nearest triangle within `reach` onto whose closed area x projects
+/// perpendicularly ([`TriangleIndex::nearest_projecting`]); unknown when there is none
+/// (x beyond the front or an outer edge, at a convex kink between two triangles' ranges,
+/// or far). The 2D `side_of` (the nearest segment whose closed interior x projects onto)
+/// with triangles for segments, so that an extruded crack gives every node of the
+/// extrusion its 2D side (case `cracks_2d_3d`). Used for the nodes in Task 7 and the
+/// particles in the checked-mode crossing test.
 fn side_of(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> i8 {
-    let Some((t, bary)) = index.nearest(x, reach) else { return 0 };
-    let tri = crack.surface.triangles[t];
-    for k in 0..3 {
-        // Edge k joins corners k and k + 1; the nearest point is on it when the opposite
-        // corner's coordinate vanishes.
-        if crack.boundary_edge[t][k] && bary[(k + 2) % 3] == 0.0 {
-            return 0;
-        }
-    }
-    let [a, b, c] = tri.map(|i| crack.surface.vertices[i as usize]);
+    let Some(t) = index.nearest_projecting(x, reach) else { return 0 };
+    let [a, b, c] = crack.surface.triangles[t].map(|i| crack.surface.vertices[i as usize]);
     side_of_plane(&a, &b, &c, x)
 }
 
@@ -358,8 +354,8 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
 }
 
 /// Checked mode: no particle near a crack changes side (the 2D check with triangles). A
-/// particle's side is known when its nearest point on the crack, within two cells, is not
-/// on the crack's boundary; passing round the front goes through "unknown".
+/// particle's side is known when it projects perpendicularly onto a triangle within two
+/// cells ([`side_of`]); passing round the front goes through "unknown".
 fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     rebuild_indices(sim);
     let nc = sim.cracks.len();

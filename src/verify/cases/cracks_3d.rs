@@ -14,18 +14,33 @@
 //!   and both crack surfaces at every step against the 2D crack point it extrudes.
 //!   Scenes: `verification/cracks_2d_3d_{dcb,disks}_{2d,3d}.toml`.
 //!
-//!   Status (quick variant, measured): the DCB matches to round-off in energies (1.2e-16),
-//!   fields (≤ 5.4e-14) and crack particles (7.9e-17), but its crack surfaces differ by
-//!   1.8e-6 of the largest crack displacement. The disks match to round-off until the
-//!   step the disks first touch (282, t = 14.19 ms), then differ by 1.9e-2 in energy.
-//!   Diagnostics: the disks without cracks match to 2.1e-16 (energies) through the
-//!   impact; with both cracks' contact off (unchecked) to 7.3e-15, fields ≤ 2.6e-11, crack
-//!   particles 4.1e-15, crack surfaces 2.7e-3. So crack-face contact breaks the particle
-//!   agreement (suspected: V_rel = nodal volume / h³ is halved at the z-face nodes, where
-//!   material lies on one side only, so they never reach V_sep in 3D), and the rule for
-//!   the geometric side of an unsplit node in Task 7 (2D: perpendicular projection inside
-//!   a segment; 3D: nearest point not on the boundary) moves the crack surfaces apart on
-//!   kinked cracks. Neither is settled; the case fails until they are.
+//!   Status (full, measured 2026-12-02): passes. DCB to t = 120: energies 2.1e-16,
+//!   fields ≤ 2.7e-14, crack particles 3.3e-15 and crack surfaces 6.6e-15 of the largest
+//!   crack displacement; disks to 45 ms (through the impact and rebound): energies
+//!   5.4e-16, fields ≤ 3.2e-13, crack particles 3.9e-15, surfaces 4.6e-15 (372 s for
+//!   both on a loaded 2-core host). Two
+//!   causes of difference were found by comparing, at the first step where the 2D and 3D
+//!   crack surfaces differ by more than 1e-12, the nodes, weights and chosen fields of
+//!   the worst surface point:
+//!   1. Task 7's geometric side of an unsplit node. 3D took the nearest point of the
+//!      surface and called the side unknown when that point was on a boundary edge. (a)
+//!      A triangle may touch the front at a corner only; when the nearest-triangle search
+//!      picked it for a node beyond the front (DCB, node (51, −2, 0), step 65), the front
+//!      vertex was not seen as boundary and the node got side −1 where 2D has unknown
+//!      (field 0 there, none in 3D: surfaces 8.8e-7 apart). (b) At a convex kink of the
+//!      crack, a node in the wedge between two segments' ranges is unknown in 2D (it
+//!      projects onto neither) but has an interior nearest vertex in 3D (disks, node
+//!      (21, −1, 2), step 603). The 3D rule is now the 2D one with triangles: the nearest
+//!      triangle within reach onto whose closed area the node projects
+//!      ([`crate::crack::crossing3::TriangleIndex::nearest_projecting`]).
+//!   2. Contact at the z-face nodes. At first contact (step 282) 46 split nodes reach
+//!      V_rel ≥ V_sep = 0.9 in 2D; in 3D the same 46 in the middle node plane z = 1 but
+//!      none on z = 0 or 2, whose V_rel peaked at 0.500003, exactly half the middle plane's
+//!      1.000006: material lies on one side of a face node only. The nodal volume now
+//!      counts the mirror image of the material at a node with a prescribed velocity
+//!      component whose particles all lie on one side of it (a wall or roller is a symmetry
+//!      plane; `Simulation::mirror_factor` in `src/contact.rs`), so V_rel there is the
+//!      interior one; 2D scenes are unchanged (golden fingerprints).
 //! * `cracked_spheres_3d`: two colliding elastic spheres, each with a central penny crack
 //!   (the 3D analogue of §3.2): the crack along the impact line opens (mode I), contact
 //!   holds the crack facing the impact closed, no particle crosses a crack, total
