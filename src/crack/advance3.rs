@@ -326,6 +326,11 @@ mod tests {
         (Crack3::new(s, ContactLaw::None, 0.0, 0.0, front), refs)
     }
 
+    /// Every front node of `c` moved to `to(its position)`.
+    fn moves_of(c: &Crack3, to: impl Fn(Vector3) -> Vector3) -> BTreeMap<u32, Vector3> {
+        c.front.iter().flatten().map(|&v| (v, to(c.surface.vertices[v as usize]))).collect()
+    }
+
     fn area(s: &TriangleSurface) -> f64 {
         (0..s.triangles.len()).map(|t| s.normal(t).norm() * 0.5).sum()
     }
@@ -349,7 +354,7 @@ mod tests {
         let n = 4;
         let (mut c, mut refs) = strip(n);
         let a0 = area(&c.surface);
-        let moves: BTreeMap<u32, Vector3> = c.front.iter().flatten().map(|&v| (v, c.surface.vertices[v as usize] + Vector3::new(0.5, 0.0, 0.0))).collect();
+        let moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
         let r = advance_front(&mut c, &mut refs, &moves, &[]);
         assert_eq!((r.new_vertices, r.new_triangles, r.splits, r.merges), (n + 1 + n, 4 * n, 0, 0));
         assert!(r.refused.is_empty());
@@ -427,7 +432,7 @@ mod tests {
             vec![[0, 1, 2], [0, 2, 3]],
         )
         .unwrap();
-        let moves: BTreeMap<u32, Vector3> = c.front.iter().flatten().map(|&v| (v, c.surface.vertices[v as usize] + Vector3::new(0.5, 0.0, 0.0))).collect();
+        let moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
         let r = advance_front(&mut c, &mut refs, &moves, &[&wall]);
         assert_eq!(r.refused, vec![1, 3], "the nodes at y = −1 and 0 stay");
         assert_eq!(r.new_triangles, 1, "the edge y ∈ [0, 1] grows by one triangle (only its upper end moves)");
@@ -454,15 +459,7 @@ mod tests {
         let n0 = c.front.len();
         let mut splits = 0;
         for k in 1..=n {
-            let moves: BTreeMap<u32, Vector3> = c
-                .front
-                .iter()
-                .flatten()
-                .map(|&v| {
-                    let x = c.surface.vertices[v as usize];
-                    (v, x + x.normalize() * step)
-                })
-                .collect();
+            let moves = moves_of(&c, |x| x + x.normalize() * step);
             let r = advance_front(&mut c, &mut refs, &moves, &[]);
             assert!(r.refused.is_empty(), "advance {k}: refused {:?}", r.refused);
             splits += r.splits;
@@ -492,15 +489,7 @@ mod tests {
     fn mirrored_front_gives_mirrored_points() {
         let n = 4;
         let (mut c, mut refs) = strip(n);
-        let moves: BTreeMap<u32, Vector3> = c
-            .front
-            .iter()
-            .flatten()
-            .map(|&v| {
-                let x = c.surface.vertices[v as usize];
-                (v, x + Vector3::new(0.3 + 0.1 * x.y * x.y, 0.07 * x.y * x.y.abs(), 0.0))
-            })
-            .collect();
+        let moves = moves_of(&c, |x| x + Vector3::new(0.3 + 0.1 * x.y * x.y, 0.07 * x.y * x.y.abs(), 0.0));
         advance_front(&mut c, &mut refs, &moves, &[]);
         check_valid(&c);
         for v in &c.surface.vertices {
