@@ -69,6 +69,24 @@ pub struct Recorded {
     pub steps: u64,
     pub time: f64,
     pub dt: f64,
+    /// Particles at the drop (with `steps`, the cost of running the scene again).
+    pub particles: usize,
+    /// The state after step [`EARLY_STEPS`] (None for a simulation not built from a scene,
+    /// or one that stopped before): lets `tests/golden.rs` check that an exported scene
+    /// reproduces an expensive run by running only its first steps.
+    pub early: Option<Early>,
+}
+
+/// The step after which a recorded simulation's state is fingerprinted once more
+/// ([`Recorded::early`]).
+pub const EARLY_STEPS: u64 = 25;
+
+/// The fingerprint of a simulation after its first [`EARLY_STEPS`] steps, and the time
+/// reached (`solver.end_time` of a run that stops there).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Early {
+    pub fingerprint: u64,
+    pub time: f64,
 }
 
 impl Recorded {
@@ -87,7 +105,7 @@ struct State {
     /// Live simulations built from a scene, keyed by the address of their particle-id
     /// array (a heap buffer that never moves or reallocates after the build: particles
     /// are only permuted in place), so the key follows the simulation when it is moved.
-    built: Vec<(usize, SceneSource)>,
+    built: Vec<(usize, SceneSource, Option<Early>)>,
 }
 
 thread_local! {
@@ -147,8 +165,25 @@ pub(crate) fn on_build<S: Dimension>(sim: &Simulation<S>, serialized: impl FnOnc
                 .map(|(_, src)| src.clone())
                 .unwrap_or(SceneSource { file: None, overrides: Vec::new(), text });
             let k = key(sim);
-            s.built.retain(|(b, _)| *b != k);
-            s.built.push((k, source));
+            s.built.retain(|(b, _, _)| *b != k);
+            s.built.push((k, source, None));
+        }
+    });
+}
+
+/// Called after every step that completed: after step [`EARLY_STEPS`] of a simulation
+/// built from a scene while recording, remember its fingerprint ([`Recorded::early`]).
+pub(crate) fn on_step<S: Dimension>(sim: &Simulation<S>) {
+    if sim.step_count != EARLY_STEPS || !RECORDER.with(|r| r.borrow().is_some()) {
+        return;
+    }
+    let k = key(sim);
+    let early = Early { fingerprint: fingerprint(sim), time: sim.time };
+    RECORDER.with(|r| {
+        if let Some(s) = r.borrow_mut().as_mut() {
+            if let Some(b) = s.built.iter_mut().find(|(b, _, _)| *b == k) {
+                b.2 = Some(early);
+            }
         }
     });
 }
@@ -161,8 +196,18 @@ pub(crate) fn on_drop<S: Dimension>(sim: &Simulation<S>) {
         let k = key(sim);
         RECORDER.with(|r| {
             if let Some(s) = r.borrow_mut().as_mut() {
-                let scene = s.built.iter().position(|(b, _)| *b == k && !sim.particles.id.is_empty()).map(|i| s.built.remove(i).1);
-                s.recorded.push(Recorded { fingerprint: f, scene, checked: sim.options.checked, steps: sim.step_count, time: sim.time, dt: sim.options.dt });
+                let built = s.built.iter().position(|(b, _, _)| *b == k && !sim.particles.id.is_empty()).map(|i| s.built.remove(i));
+                let (scene, early) = built.map_or((None, None), |(_, src, early)| (Some(src), early));
+                s.recorded.push(Recorded {
+                    fingerprint: f,
+                    scene,
+                    checked: sim.options.checked,
+                    steps: sim.step_count,
+                    time: sim.time,
+                    dt: sim.options.dt,
+                    particles: sim.particles.len(),
+                    early,
+                });
             }
         });
     }

@@ -113,6 +113,7 @@ impl<S: Dimension> Simulation<S> {
                 S::check_crack_sides(self)?;
             }
         }
+        crate::fingerprint::on_step(self);
         Ok(())
     }
 

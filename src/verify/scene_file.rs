@@ -149,6 +149,10 @@ pub struct Exported {
     /// Whether the case only built the simulation (never stepped it: an initial state, or
     /// the particle fill of `cramp fea`): its fingerprint is that of the built scene.
     pub built_only: bool,
+    /// Particle-steps the case spent on it (particles × steps): the cost of running it again.
+    pub work: u64,
+    /// Its state after its first [`crate::fingerprint::EARLY_STEPS`] steps, if it got there.
+    pub early: Option<crate::fingerprint::Early>,
 }
 
 /// A file-name-safe summary of overrides: `cell-0.5-0.5_shape-linear`.
@@ -198,8 +202,9 @@ pub fn export(dir: &Path, results: &[super::CaseResult]) -> anyhow::Result<Vec<E
         std::fs::create_dir_all(&case_dir).with_context(|| format!("cannot create {}", case_dir.display()))?;
         for (k, sim) in r.simulations.iter().enumerate() {
             let built_only = sim.steps == 0;
+            let work = sim.particles as u64 * sim.steps;
             let Some(src) = &sim.scene else {
-                out.push(Exported { case: r.name.clone(), index: k, path: None, fingerprint: sim.fingerprint, from_file: false, built_only });
+                out.push(Exported { case: r.name.clone(), index: k, path: None, fingerprint: sim.fingerprint, from_file: false, built_only, work, early: sim.early });
                 continue;
             };
             let stem = src.file.as_deref().map_or("built_in_rust", |f| f.trim_end_matches(".toml"));
@@ -219,7 +224,7 @@ pub fn export(dir: &Path, results: &[super::CaseResult]) -> anyhow::Result<Vec<E
             );
             let path = case_dir.join(name);
             std::fs::write(&path, format!("{header}{text}")).with_context(|| format!("cannot write {}", path.display()))?;
-            out.push(Exported { case: r.name.clone(), index: k, path: Some(path), fingerprint: sim.fingerprint, from_file: src.file.is_some(), built_only });
+            out.push(Exported { case: r.name.clone(), index: k, path: Some(path), fingerprint: sim.fingerprint, from_file: src.file.is_some(), built_only, work, early: sim.early });
         }
     }
     let mut index = String::from("case,index,file,fingerprint,from_file,built_only,note\n");
@@ -234,17 +239,41 @@ pub fn export(dir: &Path, results: &[super::CaseResult]) -> anyhow::Result<Vec<E
     Ok(out)
 }
 
+/// How far [`run_fingerprint`] runs an exported scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reproduce {
+    /// Build it only (the case never stepped it).
+    Built,
+    /// Run it to the end time written in the file.
+    Full,
+    /// Run it to this end time instead (`cramp run --set solver.end_time=T`).
+    Until(f64),
+}
+
 /// Run an exported scene as `cramp run` does (no output files) and return the
 /// fingerprint of the simulation's final state, also when the run stops with an error
-/// (a case may run a scene until a check fails). With `build_only`, the fingerprint of
-/// the scene as built (the simulation was never stepped).
-pub fn run_fingerprint(path: &Path, build_only: bool) -> anyhow::Result<u64> {
-    let scene = AnyScene::from_file(path)?;
-    if build_only {
+/// (a case may run a scene until a check fails). With [`Reproduce::Built`], the
+/// fingerprint of the scene as built (the simulation was never stepped).
+pub fn run_fingerprint(path: &Path, how: Reproduce) -> anyhow::Result<u64> {
+    let mut scene = AnyScene::from_file(path)?;
+    if how == Reproduce::Built {
         return Ok(match &scene {
             AnyScene::D2(s) => crate::fingerprint::fingerprint(&s.build()?),
             AnyScene::D3(s) => crate::fingerprint::fingerprint(&s.build()?),
         });
+    }
+    // Only the end moves: the history rows stay where the full run has them.
+    if let Reproduce::Until(t) = how {
+        match &mut scene {
+            AnyScene::D2(s) => {
+                s.output.history_interval.get_or_insert(s.solver.end_time / 100.0);
+                s.solver.end_time = t;
+            }
+            AnyScene::D3(s) => {
+                s.output.history_interval.get_or_insert(s.solver.end_time / 100.0);
+                s.solver.end_time = t;
+            }
+        }
     }
     let recorder = crate::fingerprint::Recorder::start();
     let opts = crate::output::RunOptions::default();

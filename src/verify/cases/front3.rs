@@ -222,6 +222,8 @@ pub struct PennyRun {
     /// radius: the opening ratios do not depend on r).
     pub j0: Vec<f64>,
     pub k0: Vec<f64>,
+    /// Front-average K_I at 0.9 of the end time relative to the end, minus 1.
+    pub settled: f64,
     pub seconds: f64,
     pub particles: usize,
     pub steps: u64,
@@ -242,9 +244,12 @@ pub fn penny(a_cells: f64, radii: &[f64]) -> anyhow::Result<PennyRun> {
     let h = PENNY_A / a_cells;
     let t = Instant::now();
     let mut sim = s.build()?;
+    let req = s.front_requests(&sim.cracks)?.remove(0).context("the penny asks for J")?;
+    // The damped run must have stopped changing: front-average K_I at 0.9 of the end time.
+    sim.run_until(0.9 * s.solver.end_time, |_| {})?;
+    let k_at_09 = front_average_k1(&sim.front_fracture(0, &req));
     sim.run_until(s.solver.end_time, |_| {})?;
     let seconds = t.elapsed().as_secs_f64();
-    let req = s.front_requests(&sim.cracks)?.remove(0).context("the penny asks for J")?;
     let t = Instant::now();
     let front = sim.front_fracture(0, &req);
     let seconds_front = t.elapsed().as_secs_f64();
@@ -263,7 +268,12 @@ pub fn penny(a_cells: f64, radii: &[f64]) -> anyhow::Result<PennyRun> {
     let fit: Vec<&(f64, Vec<FrontResult>)> = per_radius.iter().filter(|(rc, _)| *rc >= EXTRAPOLATE_FROM).collect();
     let j0: Vec<f64> = (0..front.len()).map(|n| line_fit(&fit.iter().map(|(rc, f)| (*rc, f[n].j1)).collect::<Vec<_>>()).0).collect();
     let k0 = front.iter().zip(&j0).map(|(f, &j)| f.k[0] * (j / f.j1).sqrt()).collect();
-    Ok(PennyRun { a_cells, h, sigma, k_ref, radius_cells: req.radius / h, front, j_vs_radius, j0, k0, seconds, particles: sim.particles.len(), steps: sim.step_count, seconds_front })
+    let settled = k_at_09 / front_average_k1(&front) - 1.0;
+    Ok(PennyRun { a_cells, h, sigma, k_ref, radius_cells: req.radius / h, front, j_vs_radius, j0, k0, settled, seconds, particles: sim.particles.len(), steps: sim.step_count, seconds_front })
+}
+
+fn front_average_k1(front: &[FrontResult]) -> f64 {
+    front.iter().map(|f| f.k[0]).sum::<f64>() / front.len() as f64
 }
 
 /// The smallest contour radius (cells) of the extrapolation to r → 0: at one cell the
@@ -314,6 +324,7 @@ pub fn run_penny(variant: Variant) -> anyhow::Result<CaseOutput> {
             out.measure("k_extrapolated", &label, k0_avg, p.k_ref);
             out.measure("k_scatter", &label, scatter, 0.0);
             out.measure("mixed_modes", &label, modes, 0.0);
+            out.measure("settled", &format!("{label}, front-average K_I at 0.9 t_end vs t_end"), p.settled.abs(), 0.0);
         }
         out.note(format!(
             "a/h = {m} (h = {} mm): σ = {:.5} MPa, K_ref = 2σ√(a/π) × {:.4} = {:.5}; contour r = {} cells: front average K_I = {:.5} ({:+.2} %), \
