@@ -55,6 +55,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("fea_extrusion_3d.toml", include_str!("../../verification/fea_extrusion_3d.toml")),
     ("fea_penny_3d.toml", include_str!("../../verification/fea_penny_3d.toml")),
     ("front_penny_3d.toml", include_str!("../../verification/front_penny_3d.toml")),
+    ("front_penny_growth_3d.toml", include_str!("../../verification/front_penny_growth_3d.toml")),
     ("front_growth_2d.toml", include_str!("../../verification/front_growth_2d.toml")),
     ("front_growth_3d.toml", include_str!("../../verification/front_growth_3d.toml")),
     ("front_sent_2d.toml", include_str!("../../verification/front_sent_2d.toml")),

@@ -66,6 +66,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "front_j_slab", run: front3::run_slab },
     Case { name: "front_j_penny", run: front3::run_penny },
     Case { name: "front_growth_slab", run: growth3::run_slab },
+    Case { name: "front_growth_penny", run: growth3::run_penny },
     Case { name: "cracked_spheres_3d", run: cracks_3d::run_spheres },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "dcb_long", run: fracture::run_dcb_long },
