@@ -333,6 +333,12 @@ pub struct FractureSpec {
     /// (default; Guo & Nairn 2004 §3) or "fit" (verified for stationary cracks only).
     #[serde(default)]
     pub cod: CodMethod,
+    /// J on the circle of this radius (in cells of the smallest cell size) around the
+    /// tip — the 3D front contour, line term only ([`Simulation::circle_j_2d`]) — instead
+    /// of the rectangle (`contour`, `area_term` unused). For comparing a 2D scene with its
+    /// 3D extrusion (case `front_growth_slab`). Omitted: the rectangle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub circle: Option<f64>,
     /// Let the tips grow (001 §2.3.2) by the toughness of the material they are in.
     /// Omitted: the crack is stationary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -749,6 +755,9 @@ impl Scene {
                 return Err(invalid(format!("cracks[{i}].v_sep"), format!("need 0 < v_sep < v_contact, got v_sep = {}, v_contact = {}", c.v_sep, c.v_contact)));
             }
             if let Some(fr) = &c.fracture {
+                if let Some(r) = fr.circle {
+                    positive(&format!("cracks[{i}].fracture.circle"), r)?;
+                }
                 if fr.contour == 0 {
                     return Err(invalid(format!("cracks[{i}].fracture.contour"), "must be at least 1 (cells from the node nearest the tip)"));
                 }
@@ -1072,6 +1081,7 @@ impl Scene {
                     contour: f.contour,
                     area_term: f.area_term,
                     cod: f.cod,
+                    circle: f.circle.map(|r| r * self.grid.cell[0].min(self.grid.cell[1])),
                 })
             })
             .collect()

@@ -95,6 +95,11 @@ pub struct MaterialSpec3 {
     /// Refused with a clear error: plane stress / plane strain mean nothing in 3D.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub state: Option<toml::Value>,
+    /// Fracture toughness and growth criterion (001 §2.3.1), as in 2D; applied at each
+    /// front node in its (x1, x2) plane ([`crate::fracture::growth3`]). Omitted: the
+    /// material never fractures.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub toughness: Option<crate::scene::ToughnessSpec>,
 }
 
 /// The solid a body fills (its particles are the lattice points inside it).
@@ -245,6 +250,10 @@ pub struct FractureSpec3 {
     /// K_I, K_II, K_III is read (default 1).
     #[serde(default = "default_cod_behind")]
     pub cod_behind: f64,
+    /// Let the front grow (001 §2.3.2; [`crate::fracture::growth3`]): the 2D table
+    /// `{ increment, every, max_speed }`. Omitted: the crack is stationary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub growth: Option<crate::scene::GrowthSpec>,
 }
 
 fn default_front_radius() -> f64 {
@@ -611,6 +620,12 @@ impl Scene3 {
             if self.materials[..i].iter().any(|o| o.name == m.name) {
                 return Err(invalid(f("name"), format!("duplicate material name '{}'", m.name)));
             }
+            if let Some(t) = &m.toughness {
+                positive(&f("toughness.kic"), t.kic)?;
+                if t.criterion == crate::fracture::growth::Criterion::MinStrainEnergy && m.nu < 0.0 {
+                    return Err(invalid(f("toughness.criterion"), format!("min_strain_energy needs 0 ≤ ν (κ = 3 − 4ν in (1, 3]), got ν = {}", m.nu)));
+                }
+            }
         }
         if self.bodies.is_empty() {
             return Err(invalid("bodies", "at least one body is required"));
@@ -896,8 +911,29 @@ impl Scene3 {
         let body_force = self.bodies.iter().map(|b| v3(b.body_force)).collect();
         let thickness = vec![1.0; self.bodies.len()];
         let cracks = self.crack_surfaces(&grid, &meshes)?;
-        self.front_requests(&cracks)?;
-        Ok(Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options))
+        let requests = self.front_requests(&cracks)?;
+        let mut sim = Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options);
+        sim.growth = self.growth3(&sim, &requests);
+        Ok(sim)
+    }
+
+    /// Crack-growth state for the cracks whose `fracture.growth` is set (None if none is).
+    fn growth3(&self, sim: &Simulation<D3>, requests: &[Option<crate::fracture::front3::FrontRequest>]) -> Option<crate::fracture::growth3::Growth3> {
+        let growing: Vec<_> = self
+            .cracks
+            .iter()
+            .enumerate()
+            .filter_map(|(c, spec)| {
+                let g = spec.fracture.as_ref()?.growth.as_ref()?;
+                let settings = crate::fracture::growth::GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed };
+                Some((c, requests[c].clone()?, settings))
+            })
+            .collect();
+        if growing.is_empty() {
+            return None;
+        }
+        let toughness = self.materials.iter().map(|m| m.toughness.as_ref().map(|t| crate::fracture::growth::Toughness { criterion: t.criterion, kic: t.kic })).collect();
+        Some(crate::fracture::growth3::Growth3::new(sim, toughness, growing))
     }
 
     /// Check the crack fields that need no meshing (the rest is checked by
@@ -915,6 +951,21 @@ impl Scene3 {
                     return Err(invalid(f("fracture.intervals"), format!("must be 2 to 4096, got {}", fr.intervals)));
                 }
                 positive(&f("fracture.cod_behind"), fr.cod_behind)?;
+                if let Some(gr) = &fr.growth {
+                    let g = |n: &str| f(&format!("fracture.growth.{n}"));
+                    if !(gr.increment > 0.0 && gr.increment <= 1.0) {
+                        return Err(invalid(g("increment"), format!("must be in (0, 1] (a fraction of the cell size), got {}", gr.increment)));
+                    }
+                    if gr.every == 0 {
+                        return Err(invalid(g("every"), "must be at least 1 (steps between evaluations)"));
+                    }
+                    if let Some(vmax) = gr.max_speed {
+                        positive(&g("max_speed"), vmax)?;
+                    }
+                    if self.materials.iter().all(|m| m.toughness.is_none()) {
+                        return Err(invalid(f("fracture.growth"), "the crack may grow but no material has a `toughness` (criterion and kic)"));
+                    }
+                }
                 if let FrontNodesSpec::Box { min, max } = &fr.nodes {
                     finite3(&f("fracture.nodes.box.min"), min)?;
                     finite3(&f("fracture.nodes.box.max"), max)?;

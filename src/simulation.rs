@@ -16,7 +16,7 @@ use std::fmt::Debug;
 /// A dimension as the time step sees it: [`Space`] (vectors, tensors, grid, shape
 /// functions) and its crack machinery — line crossing, contact, crack motion and growth
 /// in 2D (polylines, [`crate::crack`]), triangulated crack surfaces in 3D
-/// ([`crate::crack::three_d`]; no growth yet). The step calls these once per step
+/// ([`crate::crack::three_d`], growth in [`crate::fracture::growth3`]). The step calls these once per step
 /// and only in scenes with cracks; the per-particle and per-node loops inside them are
 /// each dimension's own.
 pub trait Dimension: Space {

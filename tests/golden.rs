@@ -140,5 +140,6 @@ golden_case!(
     cracked_spheres_3d,
     crack_friction_3d,
     front_j_slab,
-    front_j_penny
+    front_j_penny,
+    front_growth_slab
 );

@@ -85,14 +85,10 @@ impl crate::contact::CrackFaces for Crack3 {
     }
 }
 
-/// No crack growth in 3D yet (issue 17): no value of this type exists.
-#[derive(Clone, Debug)]
-pub enum NoGrowth3 {}
-
 /// The 3D crack machinery as the generic time step calls it.
 impl crate::simulation::Dimension for D3 {
     type Crack = Crack3;
-    type Growth = NoGrowth3;
+    type Growth = crate::fracture::growth3::Growth3;
 
     fn task1_cracks(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         assign_velocity_fields(sim)
@@ -112,8 +108,8 @@ impl crate::simulation::Dimension for D3 {
     fn task7_move_cracks(sim: &mut Simulation<D3>) {
         task7_move_cracks(sim)
     }
-    fn grow_cracks(_: &mut Simulation<D3>) -> Result<(), CheckError> {
-        Ok(())
+    fn grow_cracks(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
+        sim.grow_fronts().map_err(|error| CheckError::Growth { step: sim.step_count, error })
     }
     fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         check_crack_sides(sim)

@@ -108,15 +108,22 @@ impl MaterialBoundary3 {
     /// material boundary: `(target, at_edge)`. `target == from` when `from` is itself
     /// outside (relative volume below ½): no move.
     pub fn trim(&self, mat: usize, from: Vector3, to: Vector3) -> (Vector3, bool) {
-        if self.relative_volume(mat, to) >= BOUNDARY_VOLUME {
-            return (to, false);
-        }
-        if self.relative_volume(mat, from) < BOUNDARY_VOLUME {
-            return (from, true);
-        }
-        let lo = last_inside(|t| self.relative_volume(mat, from + (to - from) * t) >= BOUNDARY_VOLUME);
-        (from + (to - from) * lo, true)
+        trim_by(from, to, |x| self.relative_volume(mat, x))
     }
+}
+
+/// A move from → to trimmed where the relative volume `v` falls below ½ (module doc):
+/// `(target, at_edge)`, `target == from` when `from` is outside.
+pub fn trim_by(from: Vector3, to: Vector3, v: impl Fn(Vector3) -> f64) -> (Vector3, bool) {
+    let inside = |x: Vector3| v(x) >= BOUNDARY_VOLUME;
+    if inside(to) {
+        return (to, false);
+    }
+    if !inside(from) {
+        return (from, true);
+    }
+    let lo = last_inside(|t| inside(from + (to - from) * t));
+    (from + (to - from) * lo, true)
 }
 
 #[cfg(test)]

@@ -134,6 +134,29 @@ pub fn partition_k3(g: f64, du: [f64; 3], e: f64, nu: f64) -> [f64; 3] {
     [f * du[1], f * du[0], f * (1.0 - nu) * du[2]]
 }
 
+/// K_I, K_II, K_III of a front node moving at the speed whose factors are `sf` (paper 001
+/// eqs. 14–18, [`crate::fracture::speed`]; Freund 1990 §5.3 for mode III): the crack-face
+/// jump of mode m near a moving front is proportional to A_m K_m, with A_III = 1/β_s, and
+/// G = (A_I K_I² + A_II K_II² + A_III K_III²)/(2μ), so
+/// K_m = (Δu_m / A_m) √(2μG / Σ_n Δu_n²/A_n). Written as the 2D split of 004 eqs. 14–15
+/// ([`crate::fracture::jintegral::partition_k`]) with the mode III term added to its
+/// denominator: D = Δu₂²β_s + Δu₁²β_d + Δu₃² A_I β_s², K_I = Δu₂ √(2μGβ_s/(A_I D)),
+/// K_II = Δu₁ √(2μGβ_d/(A_II D)), K_III = Δu₃ β_s √(2μG A_I β_s/D) — so with Δu₃ = 0 it
+/// gives the 2D K_I, K_II to the bit (the extruded growth case), and at rest (β = 1,
+/// A_I = A_II = 1 − ν in 3D) it is [`partition_k3`]. G ≤ 0 or a closed crack give zeros.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+pub fn partition_k3_moving(g: f64, du: [f64; 3], mu: f64, sf: &crate::fracture::speed::SpeedFactors) -> [f64; 3] {
+    let (di, dii, diii) = (du[1], du[0], du[2]);
+    let denom = di * di * sf.beta_s + dii * dii * sf.beta_d + diii * diii * (sf.a_i * sf.beta_s * sf.beta_s);
+    if !(g > 0.0) || !(denom > 0.0) {
+        return [0.0; 3];
+    }
+    let k1 = di * (2.0 * mu * g * sf.beta_s / (sf.a_i * denom)).sqrt();
+    let k2 = dii * (2.0 * mu * g * sf.beta_d / (sf.a_ii * denom)).sqrt();
+    let k3 = diii * sf.beta_s * (2.0 * mu * g * sf.a_i * sf.beta_s / denom).sqrt();
+    [k1, k2, k3]
+}
+
 /// What a scene asks to be computed along one 3D crack's front.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrontRequest {
@@ -423,16 +446,9 @@ impl Simulation<D3> {
         Vector3::new(sum[0].value(), sum[1].value(), sum[2].value())
     }
 
-    /// The material at x: the scene's only material, else that of the nearest particle
-    /// (ties: lowest id).
+    /// The material at x ([`Simulation::material_index_near3`]).
     fn material_near3(&self, x: &Vector3) -> Option<&LinearElastic> {
-        if self.materials.len() == 1 {
-            return self.materials.first();
-        }
-        let p = &self.particles;
-        (0..p.len())
-            .min_by(|&a, &b| (p.x[a] - x).norm_squared().total_cmp(&(p.x[b] - x).norm_squared()).then(p.id[a].cmp(&p.id[b])))
-            .map(|i| &self.materials[p.material[i] as usize])
+        self.material_index_near3(x).map(|m| &self.materials[m])
     }
 
     /// J and K at the requested front nodes of crack c after the last completed step.
@@ -646,5 +662,29 @@ mod tests {
         }
         assert_eq!(partition_k3(0.0, du, e, nu), [0.0; 3]);
         assert_eq!(partition_k3(g, [0.0; 3], e, nu), [0.0; 3]);
+    }
+
+    /// The moving split: at rest it is the static one; at speed it returns G with the
+    /// speed factors (mode III: A_III = 1/β_s); without mode III it is the 2D split to the bit.
+    #[test]
+    fn moving_partition_returns_g_and_reduces_to_2d_and_static() {
+        use crate::fracture::jintegral::partition_k;
+        use crate::fracture::speed::speed_factors_for;
+        let m = LinearElastic::solid(200.0, 0.3, 1.0);
+        let mu = m.shear_modulus();
+        let du = [0.3e-3, 1.1e-3, -0.4e-3];
+        let g = 0.7;
+        let rest = speed_factors_for(&m, 0.0).unwrap();
+        let (a, b) = (partition_k3_moving(g, du, mu, &rest), partition_k3(g, du, m.e, m.nu));
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() < 1e-13 * b[0].abs(), "{a:?} vs {b:?}");
+        }
+        let sf = speed_factors_for(&m, 0.5 * m.shear_wave_speed()).unwrap();
+        let k = partition_k3_moving(g, du, mu, &sf);
+        let g_back = (sf.a_i * k[0] * k[0] + sf.a_ii * k[1] * k[1] + k[2] * k[2] / sf.beta_s) / (2.0 * mu);
+        assert!((g_back / g - 1.0).abs() < 1e-14, "{g_back}");
+        let k2d = partition_k(g, du[1], du[0], mu, sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
+        let k3d = partition_k3_moving(g, [du[0], du[1], 0.0], mu, &sf);
+        assert_eq!((k3d[0].to_bits(), k3d[1].to_bits(), k3d[2]), (k2d.0.to_bits(), k2d.1.to_bits(), 0.0));
     }
 }

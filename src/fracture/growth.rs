@@ -153,19 +153,37 @@ impl TipGrowth {
 
     /// The estimate if an increment of length `da` were added at `t`.
     fn speed_with(&self, t: f64, da: Option<f64>) -> f64 {
-        let n = self.events.len() + da.is_some() as usize;
-        if n < 2 {
-            return 0.0;
-        }
-        let first = n.saturating_sub(SPEED_WINDOW + 1).min(self.events.len() - 1);
-        let (t0, a0) = self.events[first];
-        let a = self.advance + da.unwrap_or(0.0);
-        if t > t0 {
-            (a - a0) / (t - t0)
-        } else {
-            f64::INFINITY
-        }
+        speed_estimate(&self.events, self.advance, t, da)
     }
+}
+
+/// The speed estimate of a growing tip or front node at time `t` from its increments
+/// `events` ((time, advance after it)) and total `advance`, as if an increment of length
+/// `da` were added at `t` when given: the advance over the last [`SPEED_WINDOW`]
+/// increments over the time since the first of them (0 before the second increment).
+pub fn speed_estimate(events: &[(f64, f64)], advance: f64, t: f64, da: Option<f64>) -> f64 {
+    let n = events.len() + da.is_some() as usize;
+    if n < 2 {
+        return 0.0;
+    }
+    let first = n.saturating_sub(SPEED_WINDOW + 1).min(events.len() - 1);
+    let (t0, a0) = events[first];
+    let a = advance + da.unwrap_or(0.0);
+    if t > t0 {
+        (a - a0) / (t - t0)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// May an increment of length `da` be made at time `t`? The speed estimate with it must
+/// stay below the Rayleigh speed `c_r` (the energy flux into a tip vanishes there, Freund
+/// 1990 §5.3), and, with `max_speed`, `da` may not take less time than `da / max_speed`
+/// since the last increment.
+pub fn speed_allows(events: &[(f64, f64)], advance: f64, t: f64, da: f64, c_r: f64, max_speed: Option<f64>) -> bool {
+    let new_speed = speed_estimate(events, advance, t, Some(da));
+    let since_last = events.last().map_or(f64::INFINITY, |e| t - e.0);
+    new_speed < c_r && max_speed.is_none_or(|vmax| da <= vmax * since_last)
 }
 
 /// Growth state of one crack.
@@ -318,6 +336,9 @@ pub enum GrowthError {
     NoMaterial { crack: usize, end: TipEnd, x: f64, y: f64 },
     #[error("crack {crack}: Rayleigh speed of the material at the {end:?} tip: {message}")]
     Rayleigh { crack: usize, end: TipEnd, message: String },
+    /// 3D: a front node's evaluation failed ([`crate::fracture::growth3`]).
+    #[error("crack {crack}, front node {node} at ({x}, {y}, {z}): {message}")]
+    Front { crack: usize, node: u32, x: f64, y: f64, z: f64, message: String },
 }
 
 impl Simulation {
@@ -345,7 +366,7 @@ impl Simulation {
                 // A contour that no longer fits (near the grid's edge) or that the crack
                 // crosses more than once (a curved crack near its tip) gives no J: the tip
                 // does not grow at this evaluation, and the row says why.
-                let fr = match self.tip_fracture(c, end, cg.request.contour, cg.request.area_term, cg.request.cod, speed) {
+                let fr = match self.tip_fracture_request(c, end, &cg.request, speed) {
                     Ok(fr) => fr,
                     Err(e @ (FractureError::ContourOutsideGrid { .. } | FractureError::Crossings { .. })) => {
                         let tip = self.tip_of(c, end);
@@ -367,10 +388,7 @@ impl Simulation {
                     let da = cg.settings.increment * h;
                     let c_r = rayleigh_speed_for(&self.materials[mat]).map_err(|e| GrowthError::Rayleigh { crack: c, end, message: e.to_string() })?;
                     let tip = &cg.tips[k];
-                    let new_speed = tip.speed_with(self.time, Some(da));
-                    let since_last = tip.events.last().map_or(f64::INFINITY, |e| self.time - e.0);
-                    let speed_ok = new_speed < c_r && cg.settings.max_speed.is_none_or(|vmax| da <= vmax * since_last);
-                    if speed_ok {
+                    if speed_allows(&tip.events, tip.advance, self.time, da, c_r, cg.settings.max_speed) {
                         let (e1, e2) = (fr.direction, Vector::new(-fr.direction.y, fr.direction.x));
                         let heading = e1 * theta.cos() + e2 * theta.sin();
                         let (added, status) = self.extend_crack(c, end, mat, fr.tip, fr.tip + heading * da);

@@ -89,6 +89,9 @@ pub struct JRequest {
     pub area_term: bool,
     /// How δ_I, δ_II are read from the tracked crack surfaces.
     pub cod: CodMethod,
+    /// Radius (length) of a circular contour instead of the rectangle (line term only;
+    /// [`Simulation::tip_fracture_request`]).
+    pub circle: Option<f64>,
 }
 
 /// How the crack-opening displacements that split G into K_I and K_II (eqs. 14–15) are
@@ -250,14 +253,7 @@ impl Simulation {
     /// J, K at one tip of crack `c` after the last completed step, with the crack moving at
     /// `speed` (0 for a stationary crack).
     pub fn tip_fracture(&self, c: usize, end: TipEnd, contour: usize, area_term: bool, cod: CodMethod, speed: f64) -> Result<TipResult, FractureError> {
-        let crack = &self.cracks[c];
-        let np = crack.points.len();
-        let (tip, prev, next_to_tip) = match end {
-            TipEnd::End => (crack.points[np - 1], crack.points[np - 2], np - 2),
-            TipEnd::Start => (crack.points[0], crack.points[1], 1),
-        };
-        let d = (tip - prev).normalize();
-        let e2 = Vector::new(-d.y, d.x);
+        let (tip, d, e2, _) = self.tip_frame(c, end);
         // The face at θ = +π (upper, +x₂′): `above` at the end tip, `below` at the start tip.
         let upper_is_above = end == TipEnd::End;
 
@@ -280,6 +276,29 @@ impl Simulation {
         }
         let j_line = Vector::new(jx.value(), jy.value());
         let j_area = if area_term { self.area_term(&path) } else { Vector::zeros() };
+        self.tip_result(c, end, j_line, j_area, cod, speed)
+    }
+
+    /// The tip of crack c at `end`, its unit direction e₁′ (along the last segment, out of
+    /// the tip), e₂′ (e₁′ turned 90° counter-clockwise) and the index of the crack particle
+    /// next to it.
+    fn tip_frame(&self, c: usize, end: TipEnd) -> (Vector, Vector, Vector, usize) {
+        let crack = &self.cracks[c];
+        let np = crack.points.len();
+        let (tip, prev, next_to_tip) = match end {
+            TipEnd::End => (crack.points[np - 1], crack.points[np - 2], np - 2),
+            TipEnd::Start => (crack.points[0], crack.points[1], 1),
+        };
+        let d = (tip - prev).normalize();
+        (tip, d, Vector::new(-d.y, d.x), next_to_tip)
+    }
+
+    /// The row of a tip from its J (line term and area term, global components): J₁, J₂
+    /// in the tip's frame, the crack-opening displacements and the K split (eqs. 14–15).
+    fn tip_result(&self, c: usize, end: TipEnd, j_line: Vector, j_area: Vector, cod: CodMethod, speed: f64) -> Result<TipResult, FractureError> {
+        let crack = &self.cracks[c];
+        let (tip, d, e2, next_to_tip) = self.tip_frame(c, end);
+        let upper_is_above = end == TipEnd::End;
         let j = j_line + j_area;
 
         // Crack-opening displacements: fitted behind the tip, or at the crack particle
@@ -507,6 +526,16 @@ impl Simulation {
             .map(|i| &self.materials[p.material[i] as usize])
     }
 
+    /// J, K at one tip as `req` asks: the rectangular contour of [`Simulation::tip_fracture`],
+    /// or, with `req.circle`, the line term on the circle of that radius
+    /// ([`Simulation::circle_j_2d`], the 3D front contour) with the same opening and split.
+    pub fn tip_fracture_request(&self, c: usize, end: TipEnd, req: &JRequest, speed: f64) -> Result<TipResult, FractureError> {
+        let Some(radius) = req.circle else { return self.tip_fracture(c, end, req.contour, req.area_term, req.cod, speed) };
+        let (_, d, e2, _) = self.tip_frame(c, end);
+        let (j1, j2) = self.circle_j_2d(c, end, radius, 16);
+        self.tip_result(c, end, d * j1 + e2 * j2, Vector::zeros(), req.cod, speed)
+    }
+
     /// Fracture parameters at every requested tip (`requests[c]` for crack c), with each
     /// growing tip's current speed estimate (0 for a stationary crack).
     pub fn fracture_parameters(&self, requests: &[Option<JRequest>]) -> Result<Vec<TipResult>, FractureError> {
@@ -516,7 +545,7 @@ impl Simulation {
                 for &end in &r.tips {
                     let speed = self.growth.as_ref().map_or(0.0, |g| g.tip_speed(c, end, self.time));
                     let grows = self.growth.as_ref().is_some_and(|g| g.grows(c));
-                    match self.tip_fracture(c, end, r.contour, r.area_term, r.cod, speed) {
+                    match self.tip_fracture_request(c, end, r, speed) {
                         Ok(t) => out.push(t),
                         // A growing crack may curve through its contour or reach the grid's
                         // edge: a row of NaN then (growth.csv says why); a stationary one

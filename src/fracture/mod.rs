@@ -3,6 +3,7 @@ pub mod boundary3;
 pub mod criteria;
 pub mod front3;
 pub mod growth;
+pub mod growth3;
 pub mod jintegral;
 pub mod nodal;
 pub mod speed;

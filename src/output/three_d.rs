@@ -147,6 +147,27 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
     // values of eq. 11 need a completed step).
     let requests = scene.front_requests(&sim.cracks)?;
     let wants_j = requests.iter().any(Option::is_some);
+    // A growing crack is evaluated at its current front ([`Growth3::current_request`]).
+    let live = |s: &Simulation<D3>| -> Vec<Option<crate::fracture::front3::FrontRequest>> {
+        match &s.growth {
+            None => requests.clone(),
+            Some(g) => requests.iter().enumerate().map(|(c, r)| g.current_request(c).or_else(|| r.clone())).collect(),
+        }
+    };
+    // growth.csv: one row per front node per growth check, appended after every step.
+    let mut growth_rows = match (&opts.out_dir, &sim.growth) {
+        (Some(dir), Some(_)) => Some((super::RowFile::create(dir.join("growth.csv"), crate::fracture::growth3::NodeRecord::HEADER)?, 0usize)),
+        _ => None,
+    };
+    let mut write_growth = |s: &Simulation<D3>| -> anyhow::Result<()> {
+        if let (Some((f, done)), Some(g)) = (&mut growth_rows, &s.growth) {
+            for r in &g.records[*done..] {
+                f.row(&r.csv())?;
+            }
+            *done = g.records.len();
+        }
+        Ok(())
+    };
     let mut fronts = Vec::new();
     let mut front_rows = match &opts.out_dir {
         Some(dir) if wants_j => Some(super::RowFile::create(dir.join("cracks.csv"), crate::fracture::front3::FrontResult::HEADER)?),
@@ -156,7 +177,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         if !wants_j || s.step_count == 0 {
             return Ok(());
         }
-        let new = s.front_parameters(&requests);
+        let new = s.front_parameters(&live(s));
         if let Some(f) = &mut front_rows {
             for r in &new {
                 f.row(&r.csv())?;
@@ -181,7 +202,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
             }
             if wants_j && s.step_count > 0 {
                 let name = format!("front_{archived:05}.vtk");
-                let results = s.front_parameters(&requests);
+                let results = s.front_parameters(&live(s));
                 write_atomically(&dir.join(&name), |tmp| write_front_snapshot_3d(&results, s.time, tmp))?;
                 snapshots.push((s.time, 2, name));
             }
@@ -201,6 +222,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         bar.inc(1);
         (done_steps, done_time) = (s.step_count, s.time);
         let mut record = || -> anyhow::Result<()> {
+            write_growth(s)?;
             if s.time + half >= next_hist {
                 let row = HistoryRow3::of(s);
                 history.push(row);
@@ -248,6 +270,8 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
         }
         record_fronts(&sim, &mut fronts)?;
     }
+    // The growth checks of a failed step are part of the record of how it failed.
+    write_growth(&sim)?;
     let summary = Summary3 {
         status,
         error: failure.as_ref().map(|e| format!("{e:#}")),

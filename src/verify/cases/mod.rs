@@ -15,6 +15,7 @@ pub mod fea3d;
 pub mod fracture;
 pub mod front3;
 pub mod growth;
+pub mod growth3;
 pub mod growth_strip;
 pub mod impact;
 pub mod plates;
@@ -64,6 +65,8 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "cracks_2d_3d", run: cracks_3d::run_2d_3d },
     Case { name: "front_j_slab", run: front3::run_slab },
     Case { name: "front_j_penny", run: front3::run_penny },
+    Case { name: "front_growth_slab", run: growth3::run_slab },
+    Case { name: "front_growth_penny", run: growth3::run_penny },
     Case { name: "cracked_spheres_3d", run: cracks_3d::run_spheres },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "dcb_long", run: fracture::run_dcb_long },

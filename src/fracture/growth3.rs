@@ -1,0 +1,422 @@
+//! Crack propagation in 3D (Guo & Nairn 001 §2.3, Figs. 3–4; issue 17): the 2D driver of
+//! [`crate::fracture::growth`] applied at every node of a crack front.
+//!
+//! Every `every` steps, for each growing crack (scene `cracks[].fracture.growth`, the 2D
+//! table: `increment`, `every`, `max_speed`), at every current front node:
+//!
+//! 1. **J and K** ([`crate::fracture::front3`]): J₁, J₂ on the circle of the crack's
+//!    `fracture` table in the node's (x1, x2) plane, and K_I, K_II, K_III from J₁ and the
+//!    opening `cod_behind` behind the node, split with the node's speed factors
+//!    ([`partition_k3_moving`]; the 2D split of 004 eqs. 14–15 plus mode III), the node's
+//!    speed estimated from its own increments as a 2D tip's ([`speed_estimate`]).
+//! 2. **Criterion** of the node's material (its `toughness`: maximum hoop stress or
+//!    minimum strain-energy density with K_Ic; [`Toughness::direction`], the 2D code) from
+//!    (K_I, K_II): the kink angle θ_c and K_eq. **K_III is left out** of both, as in the
+//!    paper (001 §2.3.1 applies the 2D criteria at each front node): the node advances in its
+//!    own (x1, x2) plane, so the new surface can kink about the front but never twists
+//!    about x1; a front under mode III alone does not grow however large K_III is, and a
+//!    mixed I/III front grows as if K_III were 0. K_III is reported in every row.
+//! 3. **Move**: a node with K_eq ≥ K_Ic, still growing, whose speed estimate with the
+//!    increment stays below the Rayleigh speed (and `max_speed`, [`speed_allows`]), moves
+//!    `increment` smallest cells along x1 cos θ_c + x2 sin θ_c.
+//! 4. **Symmetry planes**: a grid-node plane x_c = const, within two cells of the node,
+//!    whose grid node nearest the node has a prescribed velocity component c (a roller or
+//!    wall, read as a symmetry plane as contact's mirror rule does, [`crate::contact`]).
+//!    A node lying exactly on one keeps its coordinate c (it moves within the plane, as
+//!    its mirror image would), and the material boundary near one counts the mirror image
+//!    of the material across it ([`mirrored_volume`]; on the plane: twice the one-sided
+//!    relative volume). A quarter penny on its two symmetry planes and an extruded crack
+//!    between rollers then grow as the full body would (without the images the nodes a
+//!    cell from a roller face see 7/8 of the material and stop short of the far edge).
+//! 5. **Material boundary** (001 §2.3.3, Fig. 4; [`MaterialBoundary3`]): a move that ends
+//!    where the relative volume of the node's material is below ½ is trimmed at the
+//!    boundary and the node stops there for good (status `edge`, as a 2D tip); a node
+//!    already outside does not move. Front edges with both ends stopped at the boundary
+//!    leave the front ([`prune_front`]); the rest of the front goes on.
+//! 6. **New surface** ([`advance_front`], 001 Fig. 3): one triangle per front edge with one
+//!    end moving, four with both, five when the new edge exceeds twice its reference length
+//!    (split, a new front node), one and a merged node when it falls below a quarter. A
+//!    node whose new triangles would meet any crack surface is refused and stops for good
+//!    (status `crack`), as a 2D tip.
+//!
+//! A new front node made by a split takes a copy of the growth history (advance, increment
+//! times, status) of the lower-labelled end of its edge; merged nodes keep the history of
+//! the lower-labelled one. Every front node has a stable `label` (initial front nodes in
+//! vertex order, then new ones as they appear); `growth.csv` has one row per front node per
+//! check. The body's crack triangle index and boundary flags are rebuilt by
+//! [`advance_front`] and at the next Task 1.
+//!
+//! Everything is a deterministic function of the state: nodes in ascending vertex order,
+//! exact sums in J and the relative volume, so a run is bit-identical for any particle
+//! order and thread count (tests/three_d_crack_reproducibility.rs).
+
+use crate::crack::advance3::{advance_front, prune_front};
+use crate::dim::{GridGeometry, Vector3, D3};
+use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
+use crate::fracture::front3::{partition_k3_moving, FrontRequest};
+use crate::fracture::growth::{speed_allows, speed_estimate, GrowthError, GrowthSettings, Toughness};
+use crate::fracture::speed::{rayleigh_speed_for, speed_factors_for};
+use crate::simulation::Simulation;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Whether a front node can still grow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NodeStatus {
+    Growing,
+    /// Reached the material boundary (001 §2.3.3).
+    AtEdge,
+    /// Its new surface would have met a crack surface.
+    AtCrack,
+}
+
+impl NodeStatus {
+    pub fn label(&self) -> &'static str {
+        match self {
+            NodeStatus::Growing => "growing",
+            NodeStatus::AtEdge => "edge",
+            NodeStatus::AtCrack => "crack",
+        }
+    }
+}
+
+/// Growth state of one front node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeGrowth {
+    /// Stable label (module doc).
+    pub label: u32,
+    pub status: NodeStatus,
+    /// Total advance (sum of its moves).
+    pub advance: f64,
+    /// (time, advance after it) of every move.
+    pub events: Vec<(f64, f64)>,
+}
+
+/// Growth state of one 3D crack.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrontGrowth {
+    pub crack: usize,
+    /// Contour, intervals, volume term and opening distance of the crack's `fracture`
+    /// table (its `nodes` are replaced by the current front at every check).
+    pub request: FrontRequest,
+    pub settings: GrowthSettings,
+    /// Reference length of each front edge (001 Fig. 3's "initial length").
+    pub front_ref: Vec<f64>,
+    /// The current front nodes by crack-particle index.
+    pub nodes: BTreeMap<u32, NodeGrowth>,
+    pub next_label: u32,
+    /// Front edges split and merged, nodes refused, edges pruned so far.
+    pub splits: usize,
+    pub merges: usize,
+    pub pruned: usize,
+}
+
+/// One evaluation at one front node (a row of the 3D growth.csv).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NodeRecord {
+    pub time: f64,
+    pub step: u64,
+    pub crack: usize,
+    pub label: u32,
+    /// Crack-particle index of the node at the evaluation.
+    pub vertex: u32,
+    pub x: Vector3,
+    /// The node's advance after this check and its speed estimate before it.
+    pub advance: f64,
+    pub speed: f64,
+    pub j1: f64,
+    pub j2: f64,
+    pub k: [f64; 3],
+    /// θ_c (radians from x1 toward x2) and K_eq of the criterion; NaN without toughness or K.
+    pub theta: f64,
+    pub k_eq: f64,
+    /// Unit direction of growth x1 cos θ_c + x2 sin θ_c (global; NaN when θ_c is).
+    pub heading: Vector3,
+    pub grew: bool,
+    pub status: NodeStatus,
+}
+
+impl NodeRecord {
+    pub const HEADER: &'static str = "time,step,crack,node,vertex,x,y,z,advance,speed,j1,j2,k1,k2,k3,theta_deg,k_eq,dir_x,dir_y,dir_z,grew,status";
+
+    pub fn csv(&self) -> String {
+        let v = [
+            self.x.x,
+            self.x.y,
+            self.x.z,
+            self.advance,
+            self.speed,
+            self.j1,
+            self.j2,
+            self.k[0],
+            self.k[1],
+            self.k[2],
+            self.theta.to_degrees(),
+            self.k_eq,
+            self.heading.x,
+            self.heading.y,
+            self.heading.z,
+        ];
+        let mut s = format!("{:e},{},{},{},{}", self.time, self.step, self.crack, self.label, self.vertex);
+        for x in v {
+            s.push_str(&format!(",{x:e}"));
+        }
+        s.push_str(&format!(",{},{}", self.grew as u8, self.status.label()));
+        s
+    }
+}
+
+/// Crack growth of a 3D simulation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Growth3 {
+    /// Toughness of each material (None: it does not fracture).
+    pub toughness: Vec<Option<Toughness>>,
+    pub cracks: Vec<FrontGrowth>,
+    /// Every evaluation so far, in order.
+    pub records: Vec<NodeRecord>,
+}
+
+impl Growth3 {
+    /// Growth state for the cracks `(index, request, settings)` of `sim`: the current front
+    /// with its edges' lengths as reference lengths, nodes labelled in vertex order.
+    pub fn new(sim: &Simulation<D3>, toughness: Vec<Option<Toughness>>, cracks: Vec<(usize, FrontRequest, GrowthSettings)>) -> Growth3 {
+        let cracks = cracks
+            .into_iter()
+            .map(|(c, request, settings)| {
+                let crack = &sim.cracks[c];
+                let v = &crack.surface.vertices;
+                let front_ref = crack.front.iter().map(|&[a, b]| (v[a as usize] - v[b as usize]).norm()).collect();
+                let ids: BTreeSet<u32> = crack.front.iter().flatten().copied().collect();
+                let nodes: BTreeMap<u32, NodeGrowth> =
+                    ids.iter().enumerate().map(|(k, &v)| (v, NodeGrowth { label: k as u32, status: NodeStatus::Growing, advance: 0.0, events: Vec::new() })).collect();
+                let next_label = nodes.len() as u32;
+                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0 }
+            })
+            .collect();
+        Growth3 { toughness, cracks, records: Vec::new() }
+    }
+
+    /// The J/K request of crack `c` at its current front (None if it does not grow).
+    pub fn current_request(&self, c: usize) -> Option<FrontRequest> {
+        let g = self.cracks.iter().find(|g| g.crack == c)?;
+        Some(FrontRequest { nodes: g.nodes.keys().copied().collect(), ..g.request.clone() })
+    }
+}
+
+impl Simulation<D3> {
+    /// Crack growth after a completed step (module doc).
+    pub(crate) fn grow_fronts(&mut self) -> Result<(), GrowthError> {
+        let Some(mut growth) = self.growth.take() else { return Ok(()) };
+        let result = self.grow_fronts_with(&mut growth);
+        self.growth = Some(growth);
+        result
+    }
+
+    fn grow_fronts_with(&mut self, growth: &mut Growth3) -> Result<(), GrowthError> {
+        let h = self.grid.min_h();
+        let mut boundary: Option<MaterialBoundary3> = None;
+        for fg in growth.cracks.iter_mut() {
+            if !self.step_count.is_multiple_of(fg.settings.every) {
+                continue;
+            }
+            let c = fg.crack;
+            let req = FrontRequest { nodes: fg.nodes.keys().copied().collect(), ..fg.request.clone() };
+            let results = self.front_fracture(c, &req);
+            let da = fg.settings.increment * h;
+            let mut moves: BTreeMap<u32, Vector3> = BTreeMap::new();
+            let mut rows: Vec<NodeRecord> = Vec::with_capacity(results.len());
+            for fr in &results {
+                let v = fr.node;
+                let node = &fg.nodes[&v];
+                let speed = speed_estimate(&node.events, node.advance, self.time, None);
+                let err = |message: String| GrowthError::Front { crack: c, node: v, x: fr.x.x, y: fr.x.y, z: fr.x.z, message };
+                let mat = self.material_index_near3(&fr.x).ok_or_else(|| err("no material particle to take the toughness from".into()))?;
+                let m = &self.materials[mat];
+                let sf = speed_factors_for(m, speed).map_err(|e| err(format!("crack-speed factors: {e}")))?;
+                let k = if fr.delta.iter().all(|d| d.is_finite()) && fr.j1.is_finite() { partition_k3_moving(fr.j1, fr.delta, m.shear_modulus(), &sf) } else { [f64::NAN; 3] };
+                let toughness = growth.toughness[mat];
+                let dir = toughness.and_then(|t| t.direction(k[0], k[1], m.kappa()));
+                let (theta, k_eq) = dir.unwrap_or((f64::NAN, f64::NAN));
+                let heading = fr.frame.e1 * theta.cos() + fr.frame.e2 * theta.sin();
+                let meets = matches!((toughness, dir), (Some(t), Some((_, keq))) if keq >= t.kic);
+                let mut status = node.status;
+                if status == NodeStatus::Growing && meets {
+                    let c_r = rayleigh_speed_for(m).map_err(|e| err(format!("Rayleigh speed: {e}")))?;
+                    if speed_allows(&node.events, node.advance, self.time, da, c_r, fg.settings.max_speed) {
+                        let planes = self.symmetry_planes(&fr.x);
+                        let mut to = fr.x + heading * da;
+                        for &(a, p) in &planes {
+                            if p == fr.x[a] {
+                                to[a] = p;
+                            }
+                        }
+                        let b = boundary.get_or_insert_with(|| self.material_boundary3());
+                        let (target, at_edge) = trim_by(fr.x, to, |x| mirrored_volume(b, mat, x, &planes));
+                        if at_edge {
+                            status = NodeStatus::AtEdge;
+                        }
+                        // Too short a move would make a degenerate triangle: stop there instead.
+                        if (target - fr.x).norm() >= 1e-3 * h {
+                            moves.insert(v, target);
+                        }
+                    }
+                }
+                rows.push(NodeRecord {
+                    time: self.time,
+                    step: self.step_count,
+                    crack: c,
+                    label: node.label,
+                    vertex: v,
+                    x: fr.x,
+                    advance: node.advance,
+                    speed,
+                    j1: fr.j1,
+                    j2: fr.j2,
+                    k,
+                    theta,
+                    k_eq,
+                    heading,
+                    grew: false,
+                    status,
+                });
+            }
+            for r in &rows {
+                fg.nodes.get_mut(&r.vertex).expect("front node").status = r.status;
+            }
+            if !moves.is_empty() {
+                let others: Vec<&crate::crack::surface::TriangleSurface> = self.cracks.iter().enumerate().filter(|&(o, _)| o != c).map(|(_, k)| &k.surface).collect();
+                let mut crack = self.cracks[c].clone();
+                let report = advance_front(&mut crack, &mut fg.front_ref, &moves, &others);
+                self.cracks[c] = crack;
+                fg.splits += report.splits;
+                fg.merges += report.merges;
+                for v in &report.refused {
+                    fg.nodes.get_mut(v).expect("front node").status = NodeStatus::AtCrack;
+                    if let Some(r) = rows.iter_mut().find(|r| r.vertex == *v) {
+                        r.status = NodeStatus::AtCrack;
+                    }
+                }
+                // Carry each node's history to its new crack particle.
+                let pts = &self.cracks[c].surface.vertices;
+                let mut next: BTreeMap<u32, NodeGrowth> = BTreeMap::new();
+                let moved: BTreeMap<u32, u32> = report.moved.iter().copied().collect();
+                for (v, mut ng) in std::mem::take(&mut fg.nodes) {
+                    let Some(&nv) = moved.get(&v) else {
+                        next.insert(v, ng);
+                        continue;
+                    };
+                    let step = (pts[nv as usize] - pts[v as usize]).norm();
+                    ng.advance += step;
+                    ng.events.push((self.time, ng.advance));
+                    if let Some(r) = rows.iter_mut().find(|r| r.vertex == v) {
+                        r.grew = true;
+                        r.advance = ng.advance;
+                    }
+                    match next.get(&nv) {
+                        // Merged with a node of lower label: keep that one's history.
+                        Some(other) if other.label < ng.label => {}
+                        _ => {
+                            next.insert(nv, ng);
+                        }
+                    }
+                }
+                // Split points: new front nodes with no history take a copy of the
+                // lower-labelled end of their edge.
+                let crack = &self.cracks[c];
+                let fresh: BTreeSet<u32> = crack.front.iter().flatten().copied().filter(|v| !next.contains_key(v)).collect();
+                for v in fresh {
+                    let neighbour = crack.front.iter().filter(|e| e.contains(&v)).flatten().filter_map(|u| next.get(u)).min_by_key(|n| n.label);
+                    let mut ng = neighbour.cloned().unwrap_or(NodeGrowth { label: 0, status: NodeStatus::Growing, advance: 0.0, events: Vec::new() });
+                    ng.label = fg.next_label;
+                    fg.next_label += 1;
+                    next.insert(v, ng);
+                }
+                fg.nodes = next;
+            }
+            // Front edges with both ends stopped at the boundary leave the front.
+            let stopped: BTreeSet<u32> = fg.nodes.iter().filter(|(_, n)| n.status == NodeStatus::AtEdge).map(|(&v, _)| v).collect();
+            if !stopped.is_empty() {
+                let mut crack = self.cracks[c].clone();
+                let dropped = prune_front(&mut crack, &mut fg.front_ref, &stopped);
+                if dropped > 0 {
+                    self.cracks[c] = crack;
+                    fg.pruned += dropped;
+                }
+            }
+            let on_front: BTreeSet<u32> = self.cracks[c].front.iter().flatten().copied().collect();
+            fg.nodes.retain(|v, _| on_front.contains(v));
+            growth.records.extend(rows);
+        }
+        Ok(())
+    }
+
+    /// The material boundary of the current particles (relative volume, current volumes).
+    fn material_boundary3(&self) -> MaterialBoundary3 {
+        let p = &self.particles;
+        let volume: Vec<f64> = (0..p.len()).map(|i| p.volume(i)).collect();
+        MaterialBoundary3::new(&self.grid, &p.x, &volume, &p.material)
+    }
+
+    /// The symmetry planes near x (module doc, item 4): per axis c, the node plane
+    /// x_c = const nearest to x, within two cells, whose grid node nearest to x has a
+    /// prescribed velocity component c (a wall or roller), as (c, coordinate).
+    pub fn symmetry_planes(&self, x: &Vector3) -> Vec<(usize, f64)> {
+        let g = &self.grid;
+        let mut ijk = [0i64; 3];
+        for a in 0..3 {
+            ijk[a] = ((x[a] - g.origin[a]) / g.h[a]).round() as i64;
+        }
+        let mut out = Vec::new();
+        for a in 0..3 {
+            let f = (x[a] - g.origin[a]) / g.h[a];
+            let mut best: Option<(f64, f64)> = None;
+            for i in (f.floor() as i64 - 1)..=(f.ceil() as i64 + 1) {
+                let mut n = ijk;
+                n[a] = i;
+                if (0..3).any(|b| n[b] < 0 || n[b] > g.n[b] as i64) {
+                    continue;
+                }
+                let node = g.node_index(n[0] as usize, n[1] as usize, n[2] as usize);
+                let p = g.node_pos(node)[a];
+                let d = (p - x[a]).abs();
+                if self.bcs.mask.get(node).is_some_and(|m| m & (1 << a) != 0) && d <= 2.0 * g.h[a] && best.is_none_or(|(bd, _)| d < bd) {
+                    best = Some((d, p));
+                }
+            }
+            if let Some((_, p)) = best {
+                out.push((a, p));
+            }
+        }
+        out
+    }
+
+    /// Index of the material at x: the scene's only material, else that of the nearest
+    /// particle (ties: lowest id).
+    pub fn material_index_near3(&self, x: &Vector3) -> Option<usize> {
+        if self.materials.len() == 1 {
+            return Some(0);
+        }
+        let p = &self.particles;
+        (0..p.len())
+            .min_by(|&a, &b| (p.x[a] - x).norm_squared().total_cmp(&(p.x[b] - x).norm_squared()).then(p.id[a].cmp(&p.id[b])))
+            .map(|i| p.material[i] as usize)
+    }
+}
+
+/// The relative volume of material `mat` at x with the mirror images of the material
+/// across the symmetry `planes` (module doc, item 4): the sum of the direct relative
+/// volume at every reflection of x across a subset of the planes (the hat is symmetric,
+/// so an image particle near x is a particle near the reflected point). On a plane its
+/// reflection is x itself: twice the one-sided value.
+pub fn mirrored_volume(b: &MaterialBoundary3, mat: usize, x: Vector3, planes: &[(usize, f64)]) -> f64 {
+    let mut sum = 0.0;
+    for subset in 0..(1usize << planes.len()) {
+        let mut y = x;
+        for (k, &(a, p)) in planes.iter().enumerate() {
+            if subset & (1 << k) != 0 {
+                y[a] = 2.0 * p - y[a];
+            }
+        }
+        sum += b.relative_volume(mat, y);
+    }
+    sum
+}

@@ -1,0 +1,288 @@
+//! 3D crack growth (issue 17; [`crate::fracture::growth3`]) against independent references.
+//! `tests/growth3.rs` calls these functions.
+//!
+//! * `front_growth_slab` (issue 17 verification item 2): the SENT plate of `front_j_slab`
+//!   (W = 20 mm, a = 6 mm, plane strain, ramped damped end traction 1 MPa, h = 2 mm) with
+//!   K_Ic = 6 MPa√mm (maximum hoop stress) and increments of half a cell, grown in 2D
+//!   (`front_growth_2d.toml`) and extruded over two cells in z with rollers on both z faces
+//!   (`front_growth_3d.toml`). Reference: the 2D run, whose tip uses the same J (the 3D
+//!   front contour on the 2D nodal values, `fracture.circle`), the same speed estimate, the
+//!   same split (the 3D one reduces to 2D's with no mode III) and the same criterion code.
+//!   The extruded run reproduces the 2D fields to round-off (`front_j_slab`,
+//!   `cracks_2d_3d`); the new triangles of each increment cover exactly the rectangle the
+//!   2D segment sweeps, so every front node must advance at the steps the 2D tip does, by
+//!   the same increments.
+//!
+//! Status (measured, h = 2 mm, 2 shared cores): 14 increments at the same 14 checks in 2D
+//! and at all 5 front nodes, advance equal within 8.9e−16 increments, J₁ at the growth
+//! events within one ulp, the front straight to the bit; the crack reaches the far edge at
+//! 0.33 ms and every node stops there at the same check as the 2D tip. 3D run 3,200
+//! particles × 464 steps, about 12 s alone.
+//! * `front_growth_penny` (full suite; issue 17 verification item 1): the penny of
+//!   `front_j_penny` (a/h = 5) with K_Ic = 3 MPa√mm and max_speed 40 mm/ms. Measured:
+//!   planar to the bit, 377 node moves from 0.222 ms to the cylinder's surface, but the
+//!   radius spread while the whole front grows is 1.16 increments against the issue's 1
+//!   (fails; cause not yet found, see cases.toml). 12,640 particles × 696 steps, 232 s.
+
+use crate::fracture::growth3::NodeRecord;
+use crate::report::plot::{PlotSpec, Series};
+use crate::verify::scene_file::SceneFile;
+use crate::verify::{CaseOutput, Plot, Variant};
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// What one slab growth comparison measured.
+#[derive(Clone, Debug)]
+pub struct SlabGrowth {
+    /// 2D growth rows: (step, time, advance after the check, J₁, K_I, grew).
+    pub rows_2d: Vec<(u64, f64, f64, f64, f64, bool)>,
+    /// 3D growth rows.
+    pub rows_3d: Vec<NodeRecord>,
+    pub seconds_2d: f64,
+    pub seconds_3d: f64,
+    pub particles_3d: usize,
+    pub steps: u64,
+    /// Crack-surface triangles and vertices at the end.
+    pub triangles: usize,
+    pub vertices: usize,
+    pub front_edges: usize,
+}
+
+/// Run the 2D and the extruded growth scenes (with overrides, e.g. the end time).
+pub fn slab_growth(overrides: &[(&str, &str)]) -> anyhow::Result<SlabGrowth> {
+    let mut f2 = SceneFile::new("front_growth_2d.toml");
+    let mut f3 = SceneFile::new("front_growth_3d.toml");
+    for (k, v) in overrides {
+        f2 = f2.set(k, v);
+        f3 = f3.set(k, v);
+    }
+    let (s2, s3) = (f2.load()?, f3.load3()?);
+    let t = Instant::now();
+    let mut a = s2.build()?;
+    a.run_until(s2.solver.end_time, |_| {})?;
+    let seconds_2d = t.elapsed().as_secs_f64();
+    let g = a.growth.as_ref().ok_or_else(|| anyhow::anyhow!("the 2D scene does not grow"))?;
+    let initial = g.cracks[0].initial_length;
+    let rows_2d = g.records.iter().map(|r| (r.step, r.fracture.time, r.length - initial, r.fracture.j1, r.fracture.k1, r.grew)).collect();
+    let t = Instant::now();
+    let mut b = s3.build()?;
+    b.run_until(s3.solver.end_time, |_| {})?;
+    let seconds_3d = t.elapsed().as_secs_f64();
+    let g3 = b.growth.as_ref().ok_or_else(|| anyhow::anyhow!("the 3D scene does not grow"))?;
+    Ok(SlabGrowth {
+        rows_2d,
+        rows_3d: g3.records.clone(),
+        seconds_2d,
+        seconds_3d,
+        particles_3d: b.particles.len(),
+        steps: b.step_count,
+        triangles: b.cracks[0].surface.triangles.len(),
+        vertices: b.cracks[0].surface.vertices.len(),
+        front_edges: b.cracks[0].front.len(),
+    })
+}
+
+/// The comparison's figures.
+#[derive(Clone, Debug, Default)]
+pub struct SlabComparison {
+    /// Checks in 2D and the 3D checks that have a 2D check at the same step.
+    pub checks: usize,
+    /// Increments of the 2D tip.
+    pub increments: usize,
+    /// Largest |advance(3D node) − advance(2D tip)| after any check, in increments.
+    pub advance_diff: f64,
+    /// Checks at which some node grew and the 2D tip did not, or the reverse.
+    pub event_mismatches: usize,
+    /// Largest |J₁(3D node)/J₁(2D) − 1| at the 3D growth events.
+    pub j_diff: f64,
+    /// Largest |K_I(3D node)/K_I(2D) − 1| at the 3D growth events.
+    pub k_diff: f64,
+    /// Largest spread of the front nodes' x after any check (the front straight).
+    pub front_spread: f64,
+    /// Largest max(|K_II|, |K_III|)/K_I at any 3D row.
+    pub mixed: f64,
+    pub nodes: usize,
+}
+
+/// Compare the 3D rows with the 2D rows step by step (`da` the increment length).
+pub fn compare(r: &SlabGrowth, da: f64) -> SlabComparison {
+    let by_step: BTreeMap<u64, &(u64, f64, f64, f64, f64, bool)> = r.rows_2d.iter().map(|row| (row.0, row)).collect();
+    let mut out = SlabComparison { increments: r.rows_2d.iter().filter(|x| x.5).count(), ..Default::default() };
+    let mut steps: BTreeMap<u64, Vec<&NodeRecord>> = BTreeMap::new();
+    for row in &r.rows_3d {
+        steps.entry(row.step).or_default().push(row);
+    }
+    out.nodes = r.rows_3d.iter().map(|x| x.label).max().map_or(0, |m| m as usize + 1);
+    for (step, rows) in &steps {
+        let Some(two) = by_step.get(step) else { continue };
+        out.checks += 1;
+        let grew3 = rows.iter().any(|x| x.grew);
+        if grew3 != two.5 || rows.iter().any(|x| x.grew != two.5) {
+            out.event_mismatches += 1;
+        }
+        for x in rows {
+            out.advance_diff = out.advance_diff.max((x.advance - two.2).abs() / da);
+            if x.grew {
+                out.j_diff = out.j_diff.max((x.j1 / two.3 - 1.0).abs());
+                out.k_diff = out.k_diff.max((x.k[0] / two.4 - 1.0).abs());
+            }
+            if x.k[0] > 0.0 {
+                out.mixed = out.mixed.max(x.k[1].abs().max(x.k[2].abs()) / x.k[0]);
+            }
+        }
+        let (lo, hi) = rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x.x.x), h.max(x.x.x)));
+        out.front_spread = out.front_spread.max(hi - lo);
+    }
+    out
+}
+
+/// Case `front_growth_slab`.
+pub fn run_slab(_variant: Variant) -> anyhow::Result<CaseOutput> {
+    let r = slab_growth(&[])?;
+    let da = 1.0;
+    let c = compare(&r, da);
+    let mut out = CaseOutput::default();
+    out.measure("advance_vs_2d", "h = 2 mm", c.advance_diff, 0.0);
+    out.measure("j_at_growth_vs_2d", "h = 2 mm", c.j_diff, 0.0);
+    out.measure("events_vs_2d", "h = 2 mm", c.event_mismatches as f64, 0.0);
+    out.measure("front_straight", "h = 2 mm", c.front_spread, 0.0);
+    out.measure("increments", "h = 2 mm", c.increments as f64, 0.0);
+    out.note(format!(
+        "{} growth checks compared ({} front nodes); the 2D tip made {} increments of {da} mm. Largest |a₃D − a₂D| = {:.3e} increments, \
+         growth events at different steps: {}, largest |J₁/J₁,2D − 1| at 3D growth events {:.2e}, |K_I/K_I,2D − 1| {:.2e}, \
+         front spread in x {:.2e} mm, max(|K_II|, |K_III|)/K_I = {:.2e}. End: {} crack triangles, {} crack particles, {} front edges. \
+         Runs: 2D {:.1} s, 3D {} particles × {} steps {:.1} s.",
+        c.checks,
+        c.nodes,
+        c.increments,
+        c.advance_diff,
+        c.event_mismatches,
+        c.j_diff,
+        c.k_diff,
+        c.front_spread,
+        c.mixed,
+        r.triangles,
+        r.vertices,
+        r.front_edges,
+        r.seconds_2d,
+        r.particles_3d,
+        r.steps,
+        r.seconds_3d
+    ));
+    // The 2D tip's x after each check against the 3D front nodes' x after each check.
+    let series2: Vec<(f64, f64)> = r.rows_2d.iter().map(|x| (x.1, 6.0 + x.2)).collect();
+    let mut series = vec![Series::reference("2D tip", series2)];
+    let labels: std::collections::BTreeSet<u32> = r.rows_3d.iter().map(|x| x.label).collect();
+    for l in labels {
+        let pts: Vec<(f64, f64)> = r.rows_3d.iter().filter(|x| x.label == l).map(|x| (x.time, 6.0 + x.advance)).collect();
+        series.push(Series::line(&format!("3D front node {l}"), pts));
+    }
+    out.figure(
+        "front_growth_slab.png",
+        "Crack tip position against time: the 2D tip (dashed) and every 3D front node (6 mm + its advance) after each growth check.",
+        PlotSpec::new("Extruded SENT: crack growth in 2D and 3D", "time (ms)", "crack tip x (mm)"),
+        Plot::Lines(series),
+    );
+    Ok(out)
+}
+
+/// What the growing penny measured.
+#[derive(Clone, Debug, Default)]
+pub struct PennyGrowth {
+    /// Largest |z| of any crack particle at the end (mm).
+    pub z_max: f64,
+    /// Largest spread (max − min) of the front nodes' distance from the axis at any check,
+    /// nodes on the grid's symmetry planes included (mm).
+    pub radius_spread: f64,
+    /// Per front node label: its advance at the end.
+    pub advances: Vec<f64>,
+    /// Radius range of the front at the end.
+    pub r_min: f64,
+    pub r_max: f64,
+    pub increments: usize,
+    pub first_growth: f64,
+    pub front_edges: usize,
+    pub splits: usize,
+    pub seconds: f64,
+    pub particles: usize,
+    pub steps: u64,
+}
+
+/// Run `front_penny_growth_3d.toml` (with overrides).
+pub fn penny_growth(overrides: &[(&str, &str)]) -> anyhow::Result<PennyGrowth> {
+    let mut f = SceneFile::new("front_penny_growth_3d.toml");
+    for (k, v) in overrides {
+        f = f.set(k, v);
+    }
+    let s = f.load3()?;
+    let t = Instant::now();
+    let mut sim = s.build()?;
+    sim.run_until(s.solver.end_time, |_| {})?;
+    let seconds = t.elapsed().as_secs_f64();
+    let g = sim.growth.as_ref().ok_or_else(|| anyhow::anyhow!("the penny does not grow"))?;
+    let crack = &sim.cracks[0];
+    let z_max = crack.surface.vertices.iter().map(|v| v.z.abs()).fold(0.0, f64::max);
+    let mut by_step: BTreeMap<u64, Vec<&NodeRecord>> = BTreeMap::new();
+    for r in &g.records {
+        by_step.entry(r.step).or_default().push(r);
+    }
+    let radius = |x: &crate::dim::Vector3| (x.x * x.x + x.y * x.y).sqrt();
+    let mut radius_spread: f64 = 0.0;
+    for rows in by_step.values() {
+        // Only checks before any node stopped at the cylinder's surface: there the front
+        // is trimmed, not grown.
+        if rows.iter().any(|r| r.status != crate::fracture::growth3::NodeStatus::Growing) {
+            break;
+        }
+        let (lo, hi) = rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| (l.min(radius(&r.x)), h.max(radius(&r.x))));
+        radius_spread = radius_spread.max(hi - lo);
+    }
+    let mut last: BTreeMap<u32, f64> = BTreeMap::new();
+    for r in &g.records {
+        last.insert(r.label, r.advance);
+    }
+    let front: Vec<f64> = crack.front.iter().flatten().map(|&v| radius(&crack.surface.vertices[v as usize])).collect();
+    Ok(PennyGrowth {
+        z_max,
+        radius_spread,
+        advances: last.values().copied().collect(),
+        r_min: front.iter().copied().fold(f64::INFINITY, f64::min),
+        r_max: front.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        increments: g.records.iter().filter(|r| r.grew).count(),
+        first_growth: g.records.iter().find(|r| r.grew).map_or(f64::NAN, |r| r.time),
+        front_edges: crack.front.len(),
+        splits: g.cracks[0].splits,
+        seconds,
+        particles: sim.particles.len(),
+        steps: sim.step_count,
+    })
+}
+
+/// Case `front_growth_penny` (full suite only).
+pub fn run_penny(_variant: Variant) -> anyhow::Result<CaseOutput> {
+    let p = penny_growth(&[])?;
+    let da = 1.0;
+    let mut out = CaseOutput::default();
+    out.measure("planar", "a/h = 5", p.z_max, 0.0);
+    out.measure("circular", "a/h = 5", p.radius_spread / da, 0.0);
+    out.measure("grown", "a/h = 5", p.increments as f64, 0.0);
+    let (amin, amax) = p.advances.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &a| (l.min(a), h.max(a)));
+    out.note(format!(
+        "Largest |z| of a crack particle {:.2e} mm; largest spread of the front nodes' radii at a check while all grew {:.3} mm \
+         ({:.2} increments); {} node moves from t = {:.4} ms; node advances at the end {amin:.3}–{amax:.3} mm; front radius at the end \
+         {:.3}–{:.3} mm, {} front edges after {} splits. Run {} particles × {} steps {:.1} s.",
+        p.z_max,
+        p.radius_spread,
+        p.radius_spread / da,
+        p.increments,
+        p.first_growth,
+        p.r_min,
+        p.r_max,
+        p.front_edges,
+        p.splits,
+        p.particles,
+        p.steps,
+        p.seconds
+    ));
+    Ok(out)
+}
