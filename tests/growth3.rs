@@ -1,5 +1,5 @@
-//! 3D crack growth (issue 17; `src/fracture/growth3.rs`): scene errors, the growing penny
-//! (case `front_growth_penny`, full suite; here with its checks) and the 3D outputs.
+//! 3D crack growth (issue 17; `src/fracture/growth3.rs`): scene errors and the 3D outputs.
+//! The growing penny is case `front_growth_penny` (full suite: `cramp verify front_growth_penny`).
 //! The extruded case `front_growth_slab` runs in tests/golden.rs.
 
 use cramp::verify::scene_file::SceneFile;
