@@ -183,12 +183,17 @@ fn bench_step_3d(c: &mut Criterion) {
 /// `RAYON_NUM_THREADS=1`); and the segment–surface field assignment of Task 1 alone, with
 /// throughput in particle–node pairs.
 ///
+/// The crack overhead is the ratio of the two `whole_step_3d_crack` throughputs (same
+/// particles, so particle-steps per second), as the 2D DCB against its twin.
+///
 /// Measured 2026-12-02 (callgrind, `examples/steps3d`, 1 thread, instructions per step as
-/// the difference of 6- and 2-step runs; host load 10–12, so no wall times): 598 M with
+/// the difference of 6- and 2-step runs; host load 7–12, so no wall times): 598 M with
 /// the crack against 222 M without, 2.69× (the target is ≤ 1.10×); the lead's
-/// main before the 2D ↔ 3D fixes: 601 M. Most of the difference is Task 1's crossing
+/// main before the 2D ↔ 3D fixes: 601 M. Most of the difference was Task 1's crossing
 /// tests (bucket queries, `triangle_verdict`, exact orient3d), then Task 7's node sides
-/// and the per-step rebuilds of the triangle index and R*-tree.
+/// and the per-step rebuilds of the triangle index and R*-tree. Branch crk (same bits):
+/// 556 M → 315 M at steps 2–6 (1.42×): Task 1 ≈ 292 M → ≈ 67 M, Task 7 ≈ 27 M → ≈ 16.5 M,
+/// rebuilds 11.3 M → 5.8 M (README, Performance).
 fn bench_crack_3d(c: &mut Criterion) {
     let path = format!("{}/verification/dcb_perf_3d.toml", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();

@@ -144,10 +144,15 @@ fn rebuild_indices(sim: &mut Simulation<D3>) {
 
 /// Task 1 with cracks: ν(p,i) for every pair by the exact crossing test, and the crack
 /// that split each node (the 2D [`Simulation::assign_velocity_fields`] with triangles).
-/// A particle whose reach (every node it can touch) misses every crack's bounding box
-/// costs one box test; near a crack, the bucket index lists the triangles near the
-/// particle's reach once, with the particle's exact side of each plane, and each of its
-/// nodes tests only those whose (padded) box its segment passes through.
+///
+/// Screening, which changes no verdict: a triangle can give a pair anything but a miss
+/// only if the segment from particle to node meets the closed triangle
+/// ([`Crossing3::add`]), so only if the triangle's bounding box meets the box of the
+/// particle and all its nodes. A particle whose box misses every crack's bounding box
+/// (or, cheaper, whose reach h + l_p misses them) costs one box test per crack; near a crack, the bucket index lists the triangles whose
+/// boxes meet the particle's box once, with the particle's exact side of each plane
+/// (computed once for all its nodes), and each node tests only those whose (padded) box
+/// its segment passes through.
 fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     const STRIDE: usize = D3::MAX_NODES;
     rebuild_indices(sim);
@@ -160,46 +165,61 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     scratch.pair_crack.resize(pairs.field.len(), 0);
     // As in 2D: a particle's nodes lie within h + l_p of it per axis (with round-off).
     let reach = (grid.h + p.lp.iter().fold(Vector3::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
-    let extents: Vec<(Vector3, Vector3)> = cracks.iter().map(|c| bounds(&c.surface.vertices)).collect();
-    let views: Vec<SurfaceView> = cracks.iter().map(|c| c.view()).collect();
     let (count, node) = (&pairs.count, &pairs.node);
     (pairs.field.par_chunks_mut(STRIDE), scratch.pair_crack.par_chunks_mut(STRIDE))
         .into_par_iter()
         .with_min_len(crate::step::PARTICLE_CHUNK)
         .enumerate()
-        .map_init(Vec::new, |candidates: &mut Vec<(u32, i8)>, (i, (field, pair_crack))| {
-            let xp = p.x[i];
-            let near = |e: &(Vector3, Vector3)| (0..3).all(|c| xp[c] + reach[c] >= e.0[c] && xp[c] - reach[c] <= e.1[c]);
+        .map_init(NearCache::default, |cache: &mut NearCache, (i, (field, pair_crack))| {
             field.fill(0);
-            if !extents.iter().any(near) {
+            let xp = p.x[i];
+            if !index.iter().any(|index| index.box_meets_extent(&(xp - reach), &(xp + reach))) {
                 return false;
             }
-            let mut split = false;
             let nodes = &node[i * STRIDE..i * STRIDE + count[i] as usize];
-            for (c, view) in views.iter().enumerate() {
-                if !near(&extents[c]) {
+            let mut xn = [Vector3::zeros(); STRIDE];
+            let (mut lo, mut hi) = (xp, xp);
+            for (k, &ni) in nodes.iter().enumerate() {
+                xn[k] = grid.node_pos(ni as usize);
+                lo = lo.inf(&xn[k]);
+                hi = hi.sup(&xn[k]);
+            }
+            let mut split = false;
+            for (c, crack) in cracks.iter().enumerate() {
+                if !index[c].box_meets_extent(&lo, &hi) {
                     continue;
                 }
-                // The triangles near the particle's reach, each with the particle's exact
-                // side of its plane (computed once for all its nodes); in the plane: never
-                // a crossing (rule 1).
+                let view = crack.view();
+                // The triangles near the particle's box (the previous particle's list when
+                // its box and crack were the same: particles of one cell usually share
+                // their nodes), each with the particle's exact side of its plane; in the
+                // plane: never a crossing (rule 1).
+                if cache.key != Some((c, lo, hi)) {
+                    cache.key = Some((c, lo, hi));
+                    cache.near.clear();
+                    index[c].near(&lo, &hi, |t| cache.near.push((t as u32, index[c].padded_box(t))));
+                }
+                let candidates = &mut cache.candidates;
                 candidates.clear();
-                index[c].near(&(xp - reach), &(xp + reach), |t| {
-                    let v = view.triangles[t].map(|q| &view.points[q as usize]);
+                for &(t, padded) in &cache.near {
+                    let v = view.triangles[t as usize].map(|q| &view.points[q as usize]);
                     let op = side_of_plane(v[0], v[1], v[2], &xp);
                     if op != 0 {
-                        candidates.push((t as u32, op));
+                        candidates.push(Candidate { padded, t, op });
                     }
-                });
-                for (k, &ni) in nodes.iter().enumerate() {
+                }
+                if candidates.is_empty() {
+                    continue;
+                }
+                for (k, xn) in xn[..nodes.len()].iter().enumerate() {
                     if field[k] != 0 {
                         continue;
                     }
-                    let xn = grid.node_pos(ni as usize);
+                    let seg = [xp.inf(xn), xp.sup(xn)];
                     let mut acc = Crossing3::default();
-                    for &(t, op) in candidates.iter() {
-                        if index[c].segment_may_meet(t as usize, &xp, &xn) {
-                            acc.add_with_side(view, t as usize, &xp, &xn, op);
+                    for q in candidates.iter() {
+                        if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
+                            acc.add_with_side(&view, q.t as usize, &xp, xn, q.op);
                         }
                     }
                     let side = acc.side();
@@ -214,6 +234,25 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         })
         .collect_into_vec(&mut scratch.split);
     super::record_node_cracks(sim).map_err(|(node, cracks)| too_many_fields(sim, node, cracks))
+}
+
+/// Per-thread scratch of Task 1: the triangles (with padded boxes) near the last
+/// particle's box `key` (crack, lower and upper corner), and the current particle's
+/// candidates.
+#[derive(Default)]
+struct NearCache {
+    key: Option<(usize, Vector3, Vector3)>,
+    near: Vec<(u32, [Vector3; 2])>,
+    candidates: Vec<Candidate>,
+}
+
+/// A triangle near a particle in Task 1: its padded bounding box
+/// ([`TriangleIndex::padded_box`], kept here so that each node's test reads it in order),
+/// index, and the particle's exact side of its plane.
+struct Candidate {
+    padded: [Vector3; 2],
+    t: u32,
+    op: i8,
 }
 
 fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> CheckError {
@@ -318,7 +357,9 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
         {
             let index = &this.scratch.crack_index3[c];
             let shape: &Crack3 = &*crack;
-            // The geometric side of every node the crack's points touch, once per step
+            // The geometric side of every node the crack's points touch and whose side
+            // [`super::side_field`] asks for (only nodes whose fields do not tell the side:
+            // it asks whenever it calls its closure, whichever surface), once per step
             // (sorted by node; looked up by binary search).
             let mut touched: Vec<u32> = Vec::new();
             let mut node = [0u32; D3::MAX_NODES];
@@ -329,6 +370,14 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
             }
             touched.sort_unstable();
             touched.dedup();
+            touched.retain(|&i| {
+                let mut asks = false;
+                super::side_field(this.nodes.present[i as usize], this.nodes.crack[i as usize], c, true, || {
+                    asks = true;
+                    0
+                });
+                asks
+            });
             let sides: Vec<i8> = touched.par_iter().map(|&i| side_of(shape, index, &this.grid.node_pos(i as usize), reach)).collect();
             let node_side = |i: usize| touched.binary_search(&(i as u32)).map_or(0, |k| sides[k]);
             let side = |i: usize, above: bool| {
