@@ -39,8 +39,13 @@ use std::time::Instant;
 
 /// The slab scenes at cell size h: the 2D SENT and its extrusion over two cells.
 pub fn slab_scenes(h: f64) -> (SceneFile, SceneFile) {
+    slab_scenes_at(h, 6.0)
+}
+
+/// [`slab_scenes`] with the crack length `a` (mm; a multiple of h/2 that is not a
+/// multiple of h, so that the tip lies mid-cell as at a = 6 mm).
+pub fn slab_scenes_at(h: f64, a: f64) -> (SceneFile, SceneFile) {
     let half = 20.0;
-    let a = 6.0;
     let two = SceneFile::new("front_sent_2d.toml")
         .set("grid.origin", format!("[{:?}, {:?}]", -2.5 * h, -half - 2.0 * h))
         .set("grid.size", format!("[{:?}, {:?}]", 20.0 + 4.0 * h, 2.0 * half + 4.0 * h))

@@ -14,6 +14,8 @@ pub mod fea;
 pub mod fea3d;
 pub mod fracture;
 pub mod front3;
+pub mod front_dcb;
+pub mod front_path;
 pub mod growth;
 pub mod growth_strip;
 pub mod impact;
@@ -64,6 +66,8 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "cracks_2d_3d", run: cracks_3d::run_2d_3d },
     Case { name: "front_j_slab", run: front3::run_slab },
     Case { name: "front_j_penny", run: front3::run_penny },
+    Case { name: "front_j_path", run: front_path::run },
+    Case { name: "front_j_dcb", run: front_dcb::run },
     Case { name: "cracked_spheres_3d", run: cracks_3d::run_spheres },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "dcb_long", run: fracture::run_dcb_long },
