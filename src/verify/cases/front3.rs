@@ -156,7 +156,7 @@ pub fn run_slab(variant: Variant) -> anyhow::Result<CaseOutput> {
         out.measure("mixed_modes", &label, modes, 0.0);
         let jv = r.front_volume.iter().map(|f| f.j1 / f.j1_line - 1.0).fold(0.0, |a: f64, x| if x.abs() > a.abs() { x } else { a });
         out.note(format!(
-            "h = {h} mm, volume term (static, damped state; path independence is issue 16 item 6, not checked here): the 3D front J₁ with \
+            "h = {h} mm, volume term (static, damped state; path independence against the radius: case front_j_path): the 3D front J₁ with \
              the volume term differs from the line term by at most {:+.3} % over the nodes; the 2D rectangular contour's J₁ with its area \
              term by {:+.3} %.",
             100.0 * jv,
