@@ -30,7 +30,11 @@
 //!   release rate of the front advancing along x₁; J₂ = J·x₂.
 //! * **Volume term** (on request; eq. 8 of 004 per unit front length): Σ_p (m_p/L)
 //!   [a_p·∂u/∂x_m − v_p·∂v/∂x_m] over the particles inside the short cylinder of radius r
-//!   and length L = one smallest cell along x₃, with v, a (the acceleration without loads,
+//!   and length one smallest cell along x₃ centred on the node; L is that length, or half
+//!   of it when the cylinder's particles all lie on one side of the node along x₃ (a node
+//!   on a free face or a symmetry plane, whose cylinder is half outside the body: without
+//!   the halving such a node got half the volume term of its neighbours — case
+//!   `front_j_path`, plane-strain slab); with v, a (the acceleration without loads,
 //!   body forces and damping, [`crate::fracture::jintegral::area_acceleration`]) and ∂v/∂x
 //!   from the nodal fields of each particle's own pairs, as in 2D. Not included: the
 //!   x₃-derivative term −∫_A ∂(σ₃ⱼ ∂u_j/∂x₁)/∂x₃ dA of a front whose fields vary along it,
@@ -413,12 +417,15 @@ impl Simulation<D3> {
         let pairs = &self.pairs;
         let nodes = &self.nodes;
         let mut sum = [ExactSum::new(), ExactSum::new(), ExactSum::new()];
+        let (mut behind, mut ahead) = (false, false);
         for i in 0..p.len() {
             let d = p.x[i] - x0;
             let (a, b, c) = (d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3));
             if a * a + b * b > r * r || 2.0 * c.abs() > slab {
                 continue;
             }
+            behind |= c <= 0.0;
+            ahead |= c >= 0.0;
             let mut acc: [ExactSum; 15] = Default::default();
             for k in pairs.of_particle(i) {
                 let fa = &nodes.fields[pairs.field[k] as usize];
@@ -443,7 +450,11 @@ impl Simulation<D3> {
                 sum[q].add(f[q]);
             }
         }
-        Vector3::new(sum[0].value(), sum[1].value(), sum[2].value())
+        // Per unit length of the slab that holds material: half of it at a node whose
+        // particles all lie on one side along x₃ (a front end on a free face or a symmetry
+        // plane). The factor 2 is exact, so interior nodes keep their bits.
+        let per_length = if behind && ahead { 1.0 } else { 2.0 };
+        Vector3::new(sum[0].value(), sum[1].value(), sum[2].value()) * per_length
     }
 
     /// The material at x ([`Simulation::material_index_near3`]).

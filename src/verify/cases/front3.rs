@@ -39,8 +39,13 @@ use std::time::Instant;
 
 /// The slab scenes at cell size h: the 2D SENT and its extrusion over two cells.
 pub fn slab_scenes(h: f64) -> (SceneFile, SceneFile) {
+    slab_scenes_at(h, 6.0)
+}
+
+/// [`slab_scenes`] with the crack length `a` (mm; a multiple of h/2 that is not a
+/// multiple of h, so that the tip lies mid-cell as at a = 6 mm).
+pub fn slab_scenes_at(h: f64, a: f64) -> (SceneFile, SceneFile) {
     let half = 20.0;
-    let a = 6.0;
     let two = SceneFile::new("front_sent_2d.toml")
         .set("grid.origin", format!("[{:?}, {:?}]", -2.5 * h, -half - 2.0 * h))
         .set("grid.size", format!("[{:?}, {:?}]", 20.0 + 4.0 * h, 2.0 * half + 4.0 * h))
@@ -151,7 +156,7 @@ pub fn run_slab(variant: Variant) -> anyhow::Result<CaseOutput> {
         out.measure("mixed_modes", &label, modes, 0.0);
         let jv = r.front_volume.iter().map(|f| f.j1 / f.j1_line - 1.0).fold(0.0, |a: f64, x| if x.abs() > a.abs() { x } else { a });
         out.note(format!(
-            "h = {h} mm, volume term (static, damped state; path independence is issue 16 item 6, not checked here): the 3D front J₁ with \
+            "h = {h} mm, volume term (static, damped state; path independence against the radius: case front_j_path): the 3D front J₁ with \
              the volume term differs from the line term by at most {:+.3} % over the nodes; the 2D rectangular contour's J₁ with its area \
              term by {:+.3} %.",
             100.0 * jv,

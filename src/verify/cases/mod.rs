@@ -14,6 +14,8 @@ pub mod fea;
 pub mod fea3d;
 pub mod fracture;
 pub mod front3;
+pub mod front_dcb;
+pub mod front_path;
 pub mod growth;
 pub mod growth3;
 pub mod growth_strip;
@@ -67,6 +69,8 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "front_j_penny", run: front3::run_penny },
     Case { name: "front_growth_slab", run: growth3::run_slab },
     Case { name: "front_growth_penny", run: growth3::run_penny },
+    Case { name: "front_j_path", run: front_path::run },
+    Case { name: "front_j_dcb", run: front_dcb::run },
     Case { name: "cracked_spheres_3d", run: cracks_3d::run_spheres },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "dcb_long", run: fracture::run_dcb_long },

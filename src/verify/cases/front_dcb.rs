@@ -1,0 +1,255 @@
+//! The 3D double cantilever beam (issue 16 verification item 3, issue 18 item 4): the MPM
+//! J along the straight front across the width ([`crate::fracture::front3`]) against
+//! corrected beam theory at mid-width and against the hex8 FEA of the same scene file.
+//!
+//! * Scene: `verification/fea_dcb_3d.toml` as it is — the DCB of `dcb_k` / `fea_dcb`
+//!   (004 §4.1: 100 × 24 mm, arms h = 12 mm, E = 2300 MPa, ν = 0.33) with a width
+//!   B = 12 mm and free side faces, ±12 N (1 N per mm of width) on the end particle layer
+//!   (load line x = h_c/4), no support (self-equilibrated loads). `cramp run` damps it to
+//!   its static state (its `[solver]`), `cramp fea` solves it statically (which ignores
+//!   the solver table), so both methods read one file.
+//! * Where the crack ends: the crack particles run to x = 49, inside the cell [48, 50].
+//!   The MPM splits the mid-plane nodes x ≤ 48; the FEA meshes the crack to the nodes
+//!   x = 50 (node duplication, its front at x = 50). The MPM's J contour is centred on the
+//!   crack particles at x = 49, and in 2D the MPM's K matches beam theory at the geometric
+//!   tip (`dcb_k`: −0.8 % at 2 mm; at the first unsplit node it would be +2.6 %). So the
+//!   FEA is solved with its front at x = 50 (the file) and x = 48 (crack end moved by one
+//!   cell) and its J(z) interpolated linearly to x = 49: J ∝ (a + χh)² changes by 7 % per
+//!   cell, and the linear interpolation of a quadratic errs by (h/2)²/(a + χh)² ≈ 3e−4.
+//! * Beam theory at mid-width: the crack length from the load line a = 49 − h_c/4; the
+//!   interior of the front is locally plane strain (3d-references.md §0), so the plate
+//!   value G = 12 (P/B)² (a + χh)²/(E′ h³), E′ = E/(1 − ν²), is the reference there;
+//!   the beam value with E is the width average for free anticlastic bending
+//!   (3d-references.md §5). χ = 0.6688 (Williams 1989, ν = 0.33), as in `dcb_k`.
+//!
+//! Tolerances and why each is fair: `verification/cases.toml`, case `front_j_dcb`.
+
+use crate::fracture::front3::{FrontRequest, FrontResult};
+use crate::report::plot::{PlotSpec, Series};
+use crate::verify::cases::fea3d::{dcb3_solve, Dcb3Solve, DCB3_B, DCB3_P};
+use crate::verify::cases::fracture::{ARM, CHI};
+use crate::verify::scene_file::SceneFile;
+use crate::verify::{CaseOutput, Plot, Variant};
+use anyhow::Context;
+use std::time::Instant;
+
+/// Cell size of `fea_dcb_3d.toml` (mm) and the x of its crack particles' end.
+pub const H: f64 = 2.0;
+pub const CRACK_END: f64 = 49.0;
+/// How long before the end the settling check reads the mid-width J (ms).
+pub const SETTLE_WINDOW: f64 = 0.25;
+
+/// The scene file with the crack end moved by `da` cells (FEA only).
+pub fn scene(da: i32) -> SceneFile {
+    let f = SceneFile::new("fea_dcb_3d.toml");
+    if da == 0 {
+        return f;
+    }
+    let end = CRACK_END + da as f64 * H;
+    f.set("cracks.0.surface.polygon.points", format!("[[-2.0, 12.0, -1.0], [-2.0, 12.0, 13.0], [{end:?}, 12.0, 13.0], [{end:?}, 12.0, -1.0]]"))
+}
+
+/// Corrected beam theory for crack length a (from the load line) and modulus e.
+pub fn g_beam(a: f64, e: f64) -> f64 {
+    12.0 * (DCB3_P / DCB3_B).powi(2) * (a + CHI * ARM).powi(2) / (e * ARM.powi(3))
+}
+
+/// Trapezoid ∫ J dz over points (z, J) sorted by z.
+pub fn width_integral(pts: &[(f64, f64)]) -> f64 {
+    pts.windows(2).map(|w| 0.5 * (w[1].0 - w[0].0) * (w[0].1 + w[1].1)).sum()
+}
+
+/// What the MPM run and the two FEA solves measured.
+#[derive(Clone, Debug)]
+pub struct DcbRun {
+    /// The MPM front at the end (the scene's radius) and at 1.5× that radius.
+    pub front: Vec<FrontResult>,
+    pub front_wide: Vec<FrontResult>,
+    /// Mid-width J₁ SETTLE_WINDOW before the end.
+    pub j_mid_before: f64,
+    pub mpm_strain: f64,
+    pub mpm_kinetic: f64,
+    pub particles: usize,
+    pub steps: u64,
+    pub mpm_seconds: f64,
+    /// FEA with its front at x = 50 (the file) and x = 48.
+    pub fea50: Dcb3Solve,
+    pub fea48: Dcb3Solve,
+    pub fea_seconds: f64,
+    pub e: f64,
+    pub nu: f64,
+    pub radius_cells: f64,
+}
+
+impl DcbRun {
+    /// FEA J (≈ 8 mm domain) at front node z interpolated to the MPM's crack end x = 49.
+    pub fn fea_at_tip(&self, z: f64) -> Option<f64> {
+        let at = |d: &Dcb3Solve| d.front.iter().find(|f| f.0 == z).map(|f| f.2);
+        let (j48, j50) = (at(&self.fea48)?, at(&self.fea50)?);
+        let w = (CRACK_END - self.fea48.front_x) / (self.fea50.front_x - self.fea48.front_x);
+        Some(j48 + w * (j50 - j48))
+    }
+    /// The MPM front node at z (the crack particles move with the material: the side
+    /// faces' Poisson contraction moves them by ~1e−3 mm; they are 1 mm apart).
+    pub fn mpm_at(&self, z: f64) -> Option<&FrontResult> {
+        near(&self.front, z)
+    }
+}
+
+/// The front node within a quarter of the front-node spacing (1 mm) of z.
+pub fn near(front: &[FrontResult], z: f64) -> Option<&FrontResult> {
+    front.iter().find(|f| (f.x.z - z).abs() < 0.25)
+}
+
+pub fn dcb() -> anyhow::Result<DcbRun> {
+    let s = scene(0).load3()?;
+    let t = Instant::now();
+    let mut sim = s.build()?;
+    let req = s.front_requests(&sim.cracks)?.remove(0).context("the DCB asks for J")?;
+    let mid = |f: &[FrontResult]| near(f, 0.5 * DCB3_B).map(|f| f.j1).context("no front node at mid-width");
+    sim.run_until(s.solver.end_time - SETTLE_WINDOW, |_| {})?;
+    let j_mid_before = mid(&sim.front_fracture(0, &req))?;
+    sim.run_until(s.solver.end_time, |_| {})?;
+    let mpm_seconds = t.elapsed().as_secs_f64();
+    let front = sim.front_fracture(0, &req);
+    let front_wide = sim.front_fracture(0, &FrontRequest { radius: 1.5 * req.radius, ..req.clone() });
+    let en = sim.energies();
+    let t = Instant::now();
+    let fea50 = dcb3_solve(&scene(0), H)?;
+    let fea48 = dcb3_solve(&scene(-1), H)?;
+    anyhow::ensure!(fea50.front_x == 50.0 && fea48.front_x == 48.0, "FEA fronts at x = {} and {}", fea50.front_x, fea48.front_x);
+    let m = &s.materials[0];
+    Ok(DcbRun {
+        front,
+        front_wide,
+        j_mid_before,
+        mpm_strain: en.strain,
+        mpm_kinetic: en.kinetic,
+        particles: sim.particles.len(),
+        steps: sim.step_count,
+        mpm_seconds,
+        fea50,
+        fea48,
+        fea_seconds: t.elapsed().as_secs_f64(),
+        e: m.e,
+        nu: m.nu,
+        radius_cells: req.radius / H,
+    })
+}
+
+/// Case `front_j_dcb` (full suite only: the MPM run is about 10⁸ particle-steps).
+pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
+    let r = dcb()?;
+    let mut out = CaseOutput::default();
+    let a = CRACK_END - 0.25 * H;
+    let g_e = g_beam(a, r.e);
+    let g_plate = g_beam(a, r.e / (1.0 - r.nu * r.nu));
+    let mid = r.mpm_at(0.5 * DCB3_B).context("no MPM front node at mid-width")?;
+    let fea_mid = r.fea_at_tip(0.5 * DCB3_B).context("no FEA front node at mid-width")?;
+    out.measure("mid_width_beam", &format!("a = {a} mm, E′ = E/(1 − ν²)"), mid.j1, g_plate);
+    out.measure("mid_width_fea", "FEA at x = 49 (fronts 48, 50 interpolated)", mid.j1, fea_mid);
+    // The profile on the FEA's front nodes (every cell), interior and faces.
+    let mut rows = Vec::new();
+    for &(z, _, _) in &r.fea50.front {
+        if let (Some(m), Some(f)) = (r.mpm_at(z), r.fea_at_tip(z)) {
+            rows.push((z, m.j1, f));
+        }
+    }
+    let interior = rows.iter().filter(|x| x.0 > 0.0 && x.0 < DCB3_B).map(|x| (x.1 / x.2 - 1.0).abs()).fold(0.0, f64::max);
+    out.measure("profile_fea", "interior front nodes z = 2 … 10", interior, 0.0);
+    let mpm_pts: Vec<(f64, f64)> = r.front.iter().map(|f| (f.x.z, f.j1)).collect();
+    let fea_pts: Vec<(f64, f64)> = r.fea50.front.iter().map(|f| (f.0, r.fea_at_tip(f.0).unwrap_or(f64::NAN))).collect();
+    let (mpm_w, fea_w) = (width_integral(&mpm_pts), width_integral(&fea_pts));
+    out.measure("settled", &format!("mid-width J at the end vs {SETTLE_WINDOW} ms before"), mid.j1, r.j_mid_before);
+    let asym = r.front.iter().map(|f| {
+        let twin = r.mpm_at(DCB3_B - f.x.z).map_or(f64::NAN, |g| g.j1);
+        (f.j1 - twin).abs() / mid.j1
+    });
+    let asym = asym.fold(0.0, f64::max);
+    let wide_mid = near(&r.front_wide, 0.5 * DCB3_B).map_or(f64::NAN, |f| f.j1);
+    let face = r.mpm_at(0.0).context("no MPM front node at z = 0")?;
+    let fea_face = r.fea_at_tip(0.0).unwrap_or(f64::NAN);
+    out.note(format!(
+        "MPM: {} particles × {} steps in {:.0} s (unchecked), kinetic energy {:.2e} of the strain energy {:.5e} at the end; mid-width J₁ \
+         moved {:+.3} % over the last {SETTLE_WINDOW} ms. FEA: two hex8 solves ({} equations) in {:.1} s.",
+        r.particles,
+        r.steps,
+        r.mpm_seconds,
+        r.mpm_kinetic / r.mpm_strain,
+        r.mpm_strain,
+        100.0 * (mid.j1 / r.j_mid_before - 1.0),
+        r.fea50.equations,
+        r.fea_seconds,
+    ));
+    out.note(format!(
+        "Beam theory at a = {a} mm (crack particles' end x = 49, load line x = h/4): G(E) = {g_e:.5e}, G(E/(1 − ν²)) = {g_plate:.5e} N/mm. \
+         MPM J₁ (circle of {} cells) at mid-width {:.5e} = {:.4} × G(E′) = {:.4} × G(E); at the faces z = 0: {:.5e} = {:.4} × G(E′), \
+         z = 12: {:.4} × G(E′); width average ∫J dz/B {:.5e} = {:.4} × G(E). Circle of {} cells at mid-width {:+.2} % from it. \
+         FEA interpolated to x = 49: mid-width {fea_mid:.5e} = {:.4} × G(E′), faces {fea_face:.5e} = {:.4} × G(E′), width average \
+         {:.5e} = {:.4} × G(E). FEA at its own front x = 50 (a = 49.5): mid-width {:.4} × G(E′) at a = 49.5. Largest \
+         |J(z) − J(B − z)|/J(B/2) of the MPM {asym:.1e}.",
+        r.radius_cells,
+        mid.j1,
+        mid.j1 / g_plate,
+        mid.j1 / g_e,
+        face.j1,
+        face.j1 / g_plate,
+        r.mpm_at(DCB3_B).map_or(f64::NAN, |f| f.j1 / g_plate),
+        mpm_w / DCB3_B,
+        mpm_w / DCB3_B / g_e,
+        1.5 * r.radius_cells,
+        100.0 * (wide_mid / mid.j1 - 1.0),
+        fea_mid / g_plate,
+        fea_face / g_plate,
+        fea_w / DCB3_B,
+        fea_w / DCB3_B / g_e,
+        r.fea50.front.iter().find(|f| f.0 == 0.5 * DCB3_B).map_or(f64::NAN, |f| f.2) / g_beam(a + H / 2.0, r.e / (1.0 - r.nu * r.nu)),
+    ));
+    out.note(format!(
+        "Width integrals (trapezoid over the front nodes; reported, not checked): MPM ∫J dz = {mpm_w:.5e} N, FEA at x = 49 {fea_w:.5e} N \
+         ({:+.2} %). The MPM's line-only circle leaves out the x₃-derivative term of the 3D J (−∫_A ∂(σ₃ⱼ ∂u_j/∂x₁)/∂x₃ dA, \
+         crate::fracture::front3), which is not small where J varies across the width — within a cell or two of the free faces — \
+         while the FEA's EDI holds it: the faces are where the two profiles part.",
+        100.0 * (mpm_w / fea_w - 1.0)
+    ));
+    out.note(format!(
+        "Profile (z: MPM J₁ / FEA J at x = 49, MPM/FEA − 1): {}. MPM at every front node (z: J₁/G(E′), K_I, K_II, K_III): {}.",
+        rows.iter().map(|x| format!("{}: {:.4e} / {:.4e} ({:+.2} %)", x.0, x.1, x.2, 100.0 * (x.1 / x.2 - 1.0))).collect::<Vec<_>>().join(", "),
+        r.front.iter().map(|f| format!("{}: {:.4}, {:.4}, {:.1e}, {:.1e}", f.x.z, f.j1 / g_plate, f.k[0], f.k[1], f.k[2])).collect::<Vec<_>>().join("; "),
+    ));
+    out.figure(
+        "front_j_dcb_width.png",
+        "3D DCB with free sides (B = h = 12 mm, 2 mm cells), one scene file (verification/fea_dcb_3d.toml): the MPM J₁ at every front \
+         node (circular contour) and the hex8 FEA J (3D EDI, ≈ 8 mm domain) interpolated to the MPM's crack end x = 49 between the \
+         FEA fronts x = 48 and 50, over corrected beam theory with E′ = E/(1 − ν²) at a = 48.5 mm; the beam value with E (the free \
+         anticlastic width average) for comparison.",
+        PlotSpec::new("3D DCB: J across the width, MPM and FEA", "z (mm)", "J / G_beam(E′)"),
+        Plot::Lines(vec![
+            Series::line(&format!("MPM, circle of {} cells", r.radius_cells), r.front.iter().map(|f| (f.x.z, f.j1 / g_plate)).collect()).with_markers(),
+            Series::line("FEA (hex8, EDI), at x = 49", fea_pts.iter().map(|p| (p.0, p.1 / g_plate)).collect()).with_markers(),
+            Series::reference("corrected beam theory, E′ (plane strain)", vec![(0.0, 1.0), (DCB3_B, 1.0)]),
+            Series::reference("corrected beam theory, E", vec![(0.0, g_e / g_plate), (DCB3_B, g_e / g_plate)]),
+        ]),
+    );
+    out.data(
+        "front_j_dcb_width.csv",
+        "J across the width of the 3D DCB: MPM per front node, FEA at x = 48, 50 and interpolated to 49 on its nodes",
+        {
+            let mut s = String::from("source,z,j\n");
+            for f in &r.front {
+                s.push_str(&format!("mpm,{:e},{:e}\n", f.x.z, f.j1));
+            }
+            for f in &r.fea48.front {
+                s.push_str(&format!("fea_x48,{:e},{:e}\n", f.0, f.2));
+            }
+            for f in &r.fea50.front {
+                s.push_str(&format!("fea_x50,{:e},{:e}\n", f.0, f.2));
+            }
+            for p in &fea_pts {
+                s.push_str(&format!("fea_x49,{:e},{:e}\n", p.0, p.1));
+            }
+            s
+        },
+    );
+    Ok(out)
+}
