@@ -360,6 +360,27 @@ pub struct GrowthSpec {
     pub max_speed: Option<f64>,
 }
 
+impl GrowthSpec {
+    /// Check the table `field` (`cracks[i].fracture.growth`) of a 2D or 3D scene; a
+    /// growing crack needs a material with a `toughness`.
+    pub(crate) fn validate(&self, field: &str, any_toughness: bool) -> Result<(), SceneError> {
+        let f = |n: &str| format!("{field}.{n}");
+        if !(self.increment > 0.0 && self.increment <= 1.0) {
+            return Err(invalid(f("increment"), format!("must be in (0, 1] (a fraction of the cell size), got {}", self.increment)));
+        }
+        if self.every == 0 {
+            return Err(invalid(f("every"), "must be at least 1 (steps between evaluations)"));
+        }
+        if let Some(vmax) = self.max_speed {
+            positive(&f("max_speed"), vmax)?;
+        }
+        if !any_toughness {
+            return Err(invalid(field, "the crack may grow but no material has a `toughness` (criterion and kic)"));
+        }
+        Ok(())
+    }
+}
+
 fn default_increment() -> f64 {
     0.5
 }
@@ -766,19 +787,7 @@ impl Scene {
                     return Err(invalid(format!("cracks[{i}].fracture.contour"), format!("{} cells is more than the grid has ({cells} cells a side)", fr.contour)));
                 }
                 if let Some(gr) = &fr.growth {
-                    let f = |n: &str| format!("cracks[{i}].fracture.growth.{n}");
-                    if !(gr.increment > 0.0 && gr.increment <= 1.0) {
-                        return Err(invalid(f("increment"), format!("must be in (0, 1] (a fraction of the cell size), got {}", gr.increment)));
-                    }
-                    if gr.every == 0 {
-                        return Err(invalid(f("every"), "must be at least 1 (steps between evaluations)"));
-                    }
-                    if let Some(vmax) = gr.max_speed {
-                        positive(&f("max_speed"), vmax)?;
-                    }
-                    if self.materials.iter().all(|m| m.toughness.is_none()) {
-                        return Err(invalid(format!("cracks[{i}].fracture.growth"), "the crack may grow but no material has a `toughness` (criterion and kic)"));
-                    }
+                    gr.validate(&format!("cracks[{i}].fracture.growth"), self.materials.iter().any(|m| m.toughness.is_some()))?;
                 }
             }
             if let ContactSpec::Friction { mu } = c.contact {

@@ -952,19 +952,7 @@ impl Scene3 {
                 }
                 positive(&f("fracture.cod_behind"), fr.cod_behind)?;
                 if let Some(gr) = &fr.growth {
-                    let g = |n: &str| f(&format!("fracture.growth.{n}"));
-                    if !(gr.increment > 0.0 && gr.increment <= 1.0) {
-                        return Err(invalid(g("increment"), format!("must be in (0, 1] (a fraction of the cell size), got {}", gr.increment)));
-                    }
-                    if gr.every == 0 {
-                        return Err(invalid(g("every"), "must be at least 1 (steps between evaluations)"));
-                    }
-                    if let Some(vmax) = gr.max_speed {
-                        positive(&g("max_speed"), vmax)?;
-                    }
-                    if self.materials.iter().all(|m| m.toughness.is_none()) {
-                        return Err(invalid(f("fracture.growth"), "the crack may grow but no material has a `toughness` (criterion and kic)"));
-                    }
+                    gr.validate(&f("fracture.growth"), self.materials.iter().any(|m| m.toughness.is_some()))?;
                 }
                 if let FrontNodesSpec::Box { min, max } = &fr.nodes {
                     finite3(&f("fracture.nodes.box.min"), min)?;
