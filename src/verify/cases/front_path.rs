@@ -61,6 +61,28 @@ impl PathEval {
     pub fn curve(&self, n: usize) -> Vec<(f64, f64, f64)> {
         self.per_radius.iter().map(|(r, f)| (*r, f[n].j1_line, f[n].j1)).collect()
     }
+    /// At node `n`: its [`Self::curve`], the spreads over the radii of line + volume and
+    /// of the line term alone, the mean J₁ (line + volume) over the radii, and the mean 2D
+    /// rectangle J (line + area), the magnitude reference.
+    pub fn summary(&self, n: usize) -> PathSummary {
+        let curve = self.curve(n);
+        PathSummary {
+            spread_full: spread(curve.iter().map(|x| x.2)),
+            spread_line: spread(curve.iter().map(|x| x.1)),
+            j_ref: self.rect.iter().map(|x| x.2).sum::<f64>() / self.rect.len() as f64,
+            mean_full: curve.iter().map(|x| x.2).sum::<f64>() / curve.len() as f64,
+            curve,
+        }
+    }
+}
+
+/// [`PathEval::summary`].
+pub struct PathSummary {
+    pub curve: Vec<(f64, f64, f64)>,
+    pub spread_full: f64,
+    pub spread_line: f64,
+    pub j_ref: f64,
+    pub mean_full: f64,
 }
 
 /// (max − min)/mean of a set of values.
@@ -139,11 +161,7 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
         let r = path_run(h, false)?;
         let ev = &r.evals[0];
         let n = ev.mid(r.width);
-        let c = ev.curve(n);
-        let s_full = spread(c.iter().map(|x| x.2));
-        let s_line = spread(c.iter().map(|x| x.1));
-        let j_ref = ev.rect.iter().map(|x| x.2).sum::<f64>() / ev.rect.len() as f64;
-        let mean_full = c.iter().map(|x| x.2).sum::<f64>() / c.len() as f64;
+        let PathSummary { curve: c, spread_full: s_full, spread_line: s_line, j_ref, mean_full } = ev.summary(n);
         out.measure("static_spread", &label, s_full, 0.0);
         out.measure("static_vs_2d", &label, mean_full, j_ref);
         out.note(format!(
@@ -167,11 +185,7 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
         let (mut worst_full, mut most_line, mut worst_2d, mut worst_face): (f64, f64, f64, f64) = (0.0, 0.0, 0.0, 0.0);
         for ev in &d.evals {
             let n = ev.mid(d.width);
-            let c = ev.curve(n);
-            let s_full = spread(c.iter().map(|x| x.2));
-            let s_line = spread(c.iter().map(|x| x.1));
-            let j_ref = ev.rect.iter().map(|x| x.2).sum::<f64>() / ev.rect.len() as f64;
-            let mean_full = c.iter().map(|x| x.2).sum::<f64>() / c.len() as f64;
+            let PathSummary { curve: c, spread_full: s_full, spread_line: s_line, j_ref, mean_full } = ev.summary(n);
             worst_full = worst_full.max(s_full);
             most_line = most_line.max(s_line);
             worst_2d = worst_2d.max((mean_full / j_ref - 1.0).abs());
