@@ -15,6 +15,7 @@ pub mod fea3d;
 pub mod fracture;
 pub mod front3;
 pub mod front_dcb;
+pub mod front_dynamic;
 pub mod front_path;
 pub mod growth;
 pub mod growth3;
@@ -71,6 +72,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "front_growth_penny", run: growth3::run_penny },
     Case { name: "front_j_path", run: front_path::run },
     Case { name: "front_j_dcb", run: front_dcb::run },
+    Case { name: "front_k_dynamic", run: front_dynamic::run },
     Case { name: "cracked_spheres_3d", run: cracks_3d::run_spheres },
     Case { name: "bar_long", run: vibrating_bar::run_long },
     Case { name: "dcb_long", run: fracture::run_dcb_long },
