@@ -246,10 +246,6 @@ pub struct FractureSpec3 {
     /// Add the volume term over the particles in the short cylinder (default false).
     #[serde(default)]
     pub volume_term: bool,
-    /// Add the x₃-derivative term of the 3D J, −∫_A ∂(σ₃ⱼ ∂u_j/∂x₁)/∂x₃ dA (default false,
-    /// as paper 001; zero where the field is uniform along the front, not near free faces).
-    #[serde(default)]
-    pub x3_term: bool,
     /// Distance behind the front, in cells, at which the crack opening that splits J into
     /// K_I, K_II, K_III is read (default 1).
     #[serde(default = "default_cod_behind")]
@@ -1139,7 +1135,7 @@ impl Scene3 {
             if nodes.is_empty() {
                 return Err(invalid(format!("cracks[{i}].fracture.nodes"), format!("selects no front node (the crack has {} front edges)", crack.front.len())));
             }
-            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, x3_term: fr.x3_term, cod_behind: fr.cod_behind * h }));
+            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h }));
         }
         Ok(out)
     }

@@ -40,7 +40,14 @@
 //!   from the nodal fields of each particle's own pairs, as in 2D. Not included: the
 //!   x₃-derivative term −∫_A ∂(σ₃ⱼ ∂u_j/∂x₁)/∂x₃ dA of a front whose fields vary along it,
 //!   and the curvature of a curved front: on a penny crack the planar contour overestimates
-//!   J by ≈ 0.4 r/a (references §0 item 4, §1.5).
+//!   J by ≈ 0.4 r/a (references §0 item 4, §1.5). The x₃ term was tried (commit cf3279b:
+//!   the divergence theorem along x₃ over the short cylinder, f = σ₃ⱼu_j,₁ sampled on its
+//!   end discs) and removed: on the 3D DCB (case `front_j_dcb`) it moved the free-face
+//!   nodes from +40 % to +8 % of the FEA's J but the mid-width node from −0.9 % to +5.1 %,
+//!   and its integral across the width, exactly zero in the continuum (f = 0 on
+//!   traction-free faces), came out +2 % of ∫J dz: the discs next to a face read the face
+//!   nodes' extrapolated stresses, which are not traction free. A domain form with a
+//!   weight function along the front (as the FEA's EDI) is the way to add it.
 //! * **K** (references §0): inside a body the near-front field is plane strain plus
 //!   antiplane shear, so G = J₁ = (1 − ν²)(K_I² + K_II²)/E + (1 + ν)K_III²/E, and the
 //!   crack-face jump (upper − lower) at a distance s behind the front gives
@@ -173,8 +180,6 @@ pub struct FrontRequest {
     pub intervals: usize,
     /// Add the volume term.
     pub volume_term: bool,
-    /// Add the x₃-derivative term −∫_A ∂(σ₃ⱼ ∂u_j/∂x₁)/∂x₃ dA ([`Simulation::x3_term`]).
-    pub x3_term: bool,
     /// Distance behind the front at which the opening is read (length).
     pub cod_behind: f64,
 }
@@ -502,54 +507,6 @@ impl Simulation<D3> {
         Vector3::new(sum[0].value(), sum[1].value(), sum[2].value()) * per_length
     }
 
-    /// The x₃-derivative term of J₁ at a front node: −∫_A ∂f/∂x₃ dA with
-    /// f = σ₃ⱼ ∂u_j/∂x₁ = e₃ᵀ σ (∇u) e₁ (local components), A the contour's disc. The 3D J
-    /// of a front whose field varies along it (Shih, Moran & Nakamura 1986; Nikishkov &
-    /// Atluri 1987) has this third term beside the line and volume terms; paper 001's front
-    /// J omits it, which is exact for a field uniform along the front (plane strain,
-    /// extruded cases: f = 0) and not near a free face, where J(z) bends. Per unit length of
-    /// the short cylinder of the volume term, by the divergence theorem along x₃:
-    /// −(1/L)[∫_{A(+L/2)} f dA − ∫_{A(−L/2)} f dA], f on the two end discs sampled as the
-    /// line term samples the circle (the side's field, θ ≥ 0 above). At a front end on a
-    /// free face the cylinder's material runs from the face, where f = 0 (traction free:
-    /// σe₃ = 0), to the inner disc, so L is halved there and the outer disc is not sampled
-    /// (the grid would return the face nodes' values there). Disc quadrature: midpoint rule on 8 rings × 32 sectors.
-    pub fn x3_term(&self, cache: &mut HashMap<usize, [Option<NodalValues3>; 3]>, x0: &Vector3, frame: &FrontFrame, r: f64, slab: f64) -> f64 {
-        const RINGS: usize = 8;
-        const SECTORS: usize = 32;
-        let half = 0.5 * slab;
-        let mut ends = [ExactSum::new(), ExactSum::new()];
-        // Which ends of the cylinder hold material: particles in it ahead of / behind the node.
-        let mut inside = [false, false];
-        let p = &self.particles;
-        for i in 0..p.len() {
-            let d = p.x[i] - x0;
-            let (a, b, c) = (d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3));
-            if a * a + b * b <= r * r && c.abs() <= half {
-                inside[usize::from(c < 0.0)] |= c != 0.0;
-            }
-        }
-        for (e, sign) in [(0usize, 1.0f64), (1, -1.0)] {
-            if !inside[e] {
-                continue; // the end on the free face: f = 0 there
-            }
-            let c = x0 + frame.e3 * (sign * half);
-            for i in 0..RINGS {
-                let rho = (i as f64 + 0.5) * r / RINGS as f64;
-                for k in 0..SECTORS {
-                    let theta = -PI + (k as f64 + 0.5) * 2.0 * PI / SECTORS as f64;
-                    let (sn, cs) = theta.sin_cos();
-                    let x = c + (frame.e1 * cs + frame.e2 * sn) * rho;
-                    let st = self.sample3(cache, &x, theta >= 0.0);
-                    let f = st.stress.dot_vec(&frame.e3).dot(&(st.grad_u * frame.e1));
-                    ends[e].add(f * rho * (r / RINGS as f64) * (2.0 * PI / SECTORS as f64));
-                }
-            }
-        }
-        let length = if inside[0] && inside[1] { slab } else { half };
-        -(ends[0].value() - ends[1].value()) / length
-    }
-
     /// The material at x ([`Simulation::material_index_near3`]).
     fn material_near3(&self, x: &Vector3) -> Option<&LinearElastic> {
         self.material_index_near3(x).map(|m| &self.materials[m])
@@ -576,9 +533,6 @@ impl Simulation<D3> {
                 let jv = self.volume_term3(&x0, &frame, req.radius, slab);
                 j1 += jv.dot(&frame.e1);
                 j2 += jv.dot(&frame.e2);
-            }
-            if req.x3_term {
-                j1 += self.x3_term(&mut cache, &x0, &frame, req.radius, slab);
             }
             let delta = opening_at(crack, &(x0 - frame.e1 * req.cod_behind)).map_or([nan; 3], |d| [d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3)]);
             let k = match self.material_near3(&x0) {
