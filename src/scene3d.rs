@@ -1135,7 +1135,7 @@ impl Scene3 {
             if nodes.is_empty() {
                 return Err(invalid(format!("cracks[{i}].fracture.nodes"), format!("selects no front node (the crack has {} front edges)", crack.front.len())));
             }
-            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h }));
+            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, tangents: Default::default() }));
         }
         Ok(out)
     }

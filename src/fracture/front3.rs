@@ -66,7 +66,7 @@ use crate::fracture::jintegral::{area_acceleration, TipEnd};
 use crate::material::LinearElastic;
 use crate::shape::ShapeKind;
 use crate::simulation::Simulation;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::f64::consts::PI;
 
 /// The crack-front frame at a front node (module doc).
@@ -182,6 +182,9 @@ pub struct FrontRequest {
     pub volume_term: bool,
     /// Distance behind the front at which the opening is read (length).
     pub cod_behind: f64,
+    /// Front tangents that replace the front's own at these nodes (the growth driver's,
+    /// [`crate::fracture::growth3`]); empty: every node's own.
+    pub tangents: BTreeMap<u32, Vector3>,
 }
 
 /// J and K at one front node at one time.
@@ -239,16 +242,37 @@ impl FrontResult {
     }
 }
 
+/// The front tangent at every front node (module doc): the sum of the unit vectors of the
+/// one or two front edges at the node, each in the edge's direction, with `span(p, q)` the
+/// vector from front node p to its neighbour q as seen from p (q − p of the crack
+/// particles' positions for [`front_frames`]; the growth driver takes some ends at an
+/// earlier position, [`crate::fracture::growth3`]).
+pub fn front_tangents(crack: &Crack3, span: impl Fn(u32, u32) -> Vector3) -> BTreeMap<u32, Vector3> {
+    let mut tangent: BTreeMap<u32, Vector3> = BTreeMap::new();
+    for &[a, b] in &crack.front {
+        let da = span(a, b).normalize();
+        let db = (-span(b, a)).normalize();
+        *tangent.entry(a).or_insert_with(Vector3::zeros) += da;
+        *tangent.entry(b).or_insert_with(Vector3::zeros) += db;
+    }
+    tangent
+}
+
 /// The front nodes of a crack with their frames, in ascending vertex order: every vertex of
 /// a front edge (module doc). A node where the frame is undefined (front folded back on
 /// itself) is left out.
 pub fn front_frames(crack: &Crack3) -> Vec<(u32, FrontFrame)> {
+    front_frames_with(crack, &BTreeMap::new())
+}
+
+/// [`front_frames`] with the tangent of the nodes in `tangents` replaced by the given one.
+pub fn front_frames_with(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>) -> Vec<(u32, FrontFrame)> {
     let s = &crack.surface;
-    let mut tangent: std::collections::BTreeMap<u32, Vector3> = std::collections::BTreeMap::new();
-    for &[a, b] in &crack.front {
-        let d = (s.vertices[b as usize] - s.vertices[a as usize]).normalize();
-        *tangent.entry(a).or_insert_with(Vector3::zeros) += d;
-        *tangent.entry(b).or_insert_with(Vector3::zeros) += d;
+    let mut tangent = front_tangents(crack, |p, q| s.vertices[q as usize] - s.vertices[p as usize]);
+    for (v, t) in tangent.iter_mut() {
+        if let Some(u) = tangents.get(v) {
+            *t = *u;
+        }
     }
     let mut normal: HashMap<u32, Vector3> = tangent.keys().map(|&v| (v, Vector3::zeros())).collect();
     for (t, tri) in s.triangles.iter().enumerate() {
@@ -515,7 +539,7 @@ impl Simulation<D3> {
     /// J and K at the requested front nodes of crack c after the last completed step.
     pub fn front_fracture(&self, c: usize, req: &FrontRequest) -> Vec<FrontResult> {
         let crack = &self.cracks[c];
-        let frames: HashMap<u32, FrontFrame> = front_frames(crack).into_iter().collect();
+        let frames: HashMap<u32, FrontFrame> = front_frames_with(crack, &req.tangents).into_iter().collect();
         let slab = self.grid.min_h();
         let mut cache = HashMap::new();
         let mut out = Vec::with_capacity(req.nodes.len());

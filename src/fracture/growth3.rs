@@ -18,12 +18,30 @@
 //!    mixed I/III front grows as if K_III were 0. K_III is reported in every row.
 //! 3. **Move**: a node with K_eq ≥ K_Ic, still growing, whose speed estimate with the
 //!    increment stays below the Rayleigh speed (and `max_speed`, [`speed_allows`]), moves
-//!    `increment` smallest cells along x1 cos θ_c + x2 sin θ_c.
+//!    `increment` smallest cells along x1 cos θ_c + x2 sin θ_c. **Growth frame**: x1 is
+//!    normal to the front tangent at the node ([`Simulation::growth_tangents`]), the sum of
+//!    the unit vectors toward its front neighbours as in [`crate::fracture::front3`], except
+//!    that each front edge is taken at the lower of its two ends' advances: an end whose
+//!    advance exceeds the other's by more than half its own last move counts at the crack
+//!    particle it left at that move. Each node moves on its own
+//!    criterion, so at any check some nodes of a uniformly growing front have made one
+//!    increment more than their neighbours: a staircase of one increment, about the length
+//!    of a front edge (both half a cell by default). Taken as the front's shape, it tilted
+//!    x1 of a lagging node by up to 32° (case `front_growth_penny`: the node moved sideways
+//!    and lost 1 − cos 32° = 0.15 of an increment of radius at its first move, 0.17 over
+//!    its life; the front's radius spread was 1.16 increments). With the staircase removed,
+//!    a circular front grows radially (tilts below 0.2°). A genuine difference of advance
+//!    along the front (e.g. an elliptical crack's) is seen less one increment at most. J
+//!    and K are evaluated in the same frame (the request's `tangents`).
 //! 4. **Symmetry planes**: a grid-node plane x_c = const, within two cells of the node,
 //!    whose grid node nearest the node has a prescribed velocity component c (a roller or
 //!    wall, read as a symmetry plane as contact's mirror rule does, [`crate::contact`]).
 //!    A node lying exactly on one keeps its coordinate c (it moves within the plane, as
-//!    its mirror image would), and the material boundary near one counts the mirror image
+//!    its mirror image would); if it is a front end, its tangent is that of the front with
+//!    its mirror image (the component normal to the plane), so x1 lies in the plane and the
+//!    node moves a full increment (with the end edge's own normal it moved
+//!    cos(φ/2) of one, φ the edge's angle at the centre of a penny); the material boundary
+//!    near one counts the mirror image
 //!    of the material across it ([`mirrored_volume`]; on the plane: twice the one-sided
 //!    relative volume). A quarter penny on its two symmetry planes and an extruded crack
 //!    between rollers then grow as the full body would (without the images the nodes a
@@ -33,6 +51,24 @@
 //!    boundary and the node stops there for good (status `edge`, as a 2D tip); a node
 //!    already outside does not move. Front edges with both ends stopped at the boundary
 //!    leave the front ([`prune_front`]); the rest of the front goes on.
+//!    **Free faces**: an end of an open front that is not on a symmetry plane lies where
+//!    the crack's edge leaves the material, on a free face, where the relative volume is ½
+//!    up to the strain: the test above would stop it at its first move (a stretched face
+//!    has V a little below ½; measured on the extruded slab without rollers: both face
+//!    nodes stopped at their first check, their neighbours were drawn to the faces and
+//!    stopped too, and the crack did not get through). Such a node ([`free_face`]: the
+//!    relative volume's gradient times the cell is at least [`FACE_GRADIENT`] = ¼; ¾ on a
+//!    flat face, ⅛ one cell inside) moves along the face — its direction of growth
+//!    projected on the plane normal to the outward normal n = −∇V/|∇V| ([`along_face`]),
+//!    the gradient taken one cell behind the node along −x1 (at the node itself, a face
+//!    ahead tilted n: on the slab the face nodes turned 21° into the body two cells before
+//!    the far face and stopped 0.4 mm inside it) —
+//!    and its boundary test counts the image of the material across that plane through
+//!    the node, as on a symmetry plane: V(x) + V(x′) ≥ ½ with x′ the mirror image of x
+//!    ([`reflect`]). So it still stops where the face meets another face (V = ¼ at a
+//!    right-angled edge, 2V = ½) or leaves the material along it, and edges with both ends
+//!    stopped are pruned as before. Nodes on symmetry planes and interior nodes are not
+//!    affected.
 //! 6. **New surface** ([`advance_front`], 001 Fig. 3): one triangle per front edge with one
 //!    end moving, four with both, five when the new edge exceeds twice its reference length
 //!    (split, a new front node), one and a merged node when it falls below a quarter. A
@@ -53,7 +89,7 @@
 use crate::crack::advance3::{advance_front, prune_front};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
-use crate::fracture::front3::{partition_k3_moving, FrontRequest};
+use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
 use crate::fracture::growth::{speed_allows, speed_estimate, GrowthError, GrowthSettings, Toughness};
 use crate::fracture::speed::{rayleigh_speed_for, speed_factors_for};
 use crate::simulation::Simulation;
@@ -89,6 +125,26 @@ pub struct NodeGrowth {
     pub advance: f64,
     /// (time, advance after it) of every move.
     pub events: Vec<(f64, f64)>,
+    /// The crack particle the node left at its last move (None before its first move and
+    /// for a node made by a split): its position before that move, for the front tangent
+    /// its neighbours see ([`Simulation::growth_tangents`]).
+    pub from: Option<u32>,
+}
+
+impl NodeGrowth {
+    fn start(label: u32) -> NodeGrowth {
+        NodeGrowth { label, status: NodeStatus::Growing, advance: 0.0, events: Vec::new(), from: None }
+    }
+
+    /// The length of the node's last move (None before its first).
+    pub fn last_step(&self) -> Option<f64> {
+        let n = self.events.len();
+        match n {
+            0 => None,
+            1 => Some(self.events[0].1),
+            _ => Some(self.events[n - 1].1 - self.events[n - 2].1),
+        }
+    }
 }
 
 /// Growth state of one 3D crack.
@@ -187,7 +243,7 @@ impl Growth3 {
                 let front_ref = crack.front.iter().map(|&[a, b]| (v[a as usize] - v[b as usize]).norm()).collect();
                 let ids: BTreeSet<u32> = crack.front.iter().flatten().copied().collect();
                 let nodes: BTreeMap<u32, NodeGrowth> =
-                    ids.iter().enumerate().map(|(k, &v)| (v, NodeGrowth { label: k as u32, status: NodeStatus::Growing, advance: 0.0, events: Vec::new() })).collect();
+                    ids.iter().enumerate().map(|(k, &v)| (v, NodeGrowth::start(k as u32))).collect();
                 let next_label = nodes.len() as u32;
                 FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0 }
             })
@@ -195,10 +251,11 @@ impl Growth3 {
         Growth3 { toughness, cracks, records: Vec::new() }
     }
 
-    /// The J/K request of crack `c` at its current front (None if it does not grow).
-    pub fn current_request(&self, c: usize) -> Option<FrontRequest> {
+    /// The J/K request of crack `c` of `sim` at its current front, with the growth
+    /// driver's front tangents (None if it does not grow).
+    pub fn current_request(&self, sim: &Simulation<D3>, c: usize) -> Option<FrontRequest> {
         let g = self.cracks.iter().find(|g| g.crack == c)?;
-        Some(FrontRequest { nodes: g.nodes.keys().copied().collect(), ..g.request.clone() })
+        Some(sim.growth_request(g))
     }
 }
 
@@ -219,8 +276,9 @@ impl Simulation<D3> {
                 continue;
             }
             let c = fg.crack;
-            let req = FrontRequest { nodes: fg.nodes.keys().copied().collect(), ..fg.request.clone() };
+            let req = self.growth_request(fg);
             let results = self.front_fracture(c, &req);
+            let degree = front_degree(&self.cracks[c]);
             let da = fg.settings.increment * h;
             let mut moves: BTreeMap<u32, Vector3> = BTreeMap::new();
             let mut rows: Vec<NodeRecord> = Vec::with_capacity(results.len());
@@ -236,21 +294,32 @@ impl Simulation<D3> {
                 let toughness = growth.toughness[mat];
                 let dir = toughness.and_then(|t| t.direction(k[0], k[1], m.kappa()));
                 let (theta, k_eq) = dir.unwrap_or((f64::NAN, f64::NAN));
-                let heading = fr.frame.e1 * theta.cos() + fr.frame.e2 * theta.sin();
+                let mut heading = fr.frame.e1 * theta.cos() + fr.frame.e2 * theta.sin();
                 let meets = matches!((toughness, dir), (Some(t), Some((_, keq))) if keq >= t.kic);
                 let mut status = node.status;
                 if status == NodeStatus::Growing && meets {
                     let c_r = rayleigh_speed_for(m).map_err(|e| err(format!("Rayleigh speed: {e}")))?;
                     if speed_allows(&node.events, node.advance, self.time, da, c_r, fg.settings.max_speed) {
                         let planes = self.symmetry_planes(&fr.x);
+                        let on_plane = planes.iter().any(|&(a, p)| p == fr.x[a]);
+                        let b = boundary.get_or_insert_with(|| self.material_boundary3());
+                        // A front end on a free face (module doc, item 5): along the face,
+                        // the face's image counted in the boundary test.
+                        let face = if !on_plane && degree.get(&v) == Some(&1) { free_face(b, mat, fr.x - fr.frame.e1 * h, &planes, h).and_then(|n| along_face(heading, n).map(|d| (n, d))) } else { None };
+                        if let Some((_, d)) = face {
+                            heading = d;
+                        }
                         let mut to = fr.x + heading * da;
                         for &(a, p) in &planes {
                             if p == fr.x[a] {
                                 to[a] = p;
                             }
                         }
-                        let b = boundary.get_or_insert_with(|| self.material_boundary3());
-                        let (target, at_edge) = trim_by(fr.x, to, |x| mirrored_volume(b, mat, x, &planes));
+                        let volume = |x: Vector3| match face {
+                            Some((n, _)) => mirrored_volume(b, mat, x, &planes) + mirrored_volume(b, mat, reflect(x, fr.x, n), &planes),
+                            None => mirrored_volume(b, mat, x, &planes),
+                        };
+                        let (target, at_edge) = trim_by(fr.x, to, volume);
                         if at_edge {
                             status = NodeStatus::AtEdge;
                         }
@@ -307,6 +376,7 @@ impl Simulation<D3> {
                     let step = (pts[nv as usize] - pts[v as usize]).norm();
                     ng.advance += step;
                     ng.events.push((self.time, ng.advance));
+                    ng.from = Some(v);
                     if let Some(r) = rows.iter_mut().find(|r| r.vertex == v) {
                         r.grew = true;
                         r.advance = ng.advance;
@@ -325,8 +395,9 @@ impl Simulation<D3> {
                 let fresh: BTreeSet<u32> = crack.front.iter().flatten().copied().filter(|v| !next.contains_key(v)).collect();
                 for v in fresh {
                     let neighbour = crack.front.iter().filter(|e| e.contains(&v)).flatten().filter_map(|u| next.get(u)).min_by_key(|n| n.label);
-                    let mut ng = neighbour.cloned().unwrap_or(NodeGrowth { label: 0, status: NodeStatus::Growing, advance: 0.0, events: Vec::new() });
+                    let mut ng = neighbour.cloned().unwrap_or(NodeGrowth::start(0));
                     ng.label = fg.next_label;
+                    ng.from = None;
                     fg.next_label += 1;
                     next.insert(v, ng);
                 }
@@ -347,6 +418,56 @@ impl Simulation<D3> {
             growth.records.extend(rows);
         }
         Ok(())
+    }
+
+    /// The J/K request of a growing crack: its current front nodes and their growth
+    /// tangents ([`Simulation::growth_tangents`]).
+    fn growth_request(&self, fg: &FrontGrowth) -> FrontRequest {
+        FrontRequest { nodes: fg.nodes.keys().copied().collect(), tangents: self.growth_tangents(fg), ..fg.request.clone() }
+    }
+
+    /// The front tangents of a growing crack where they differ from the front's own
+    /// (module doc, items 3–4): the tangent at node P is the sum of the unit vectors toward
+    /// its front neighbours, each edge with the end that leads the other by more than half
+    /// its own last move taken at the crack particle it left at that move (the asynchronous
+    /// staircase removed); a front end lying on a symmetry plane keeps only the tangent's
+    /// component normal to the plane (the tangent of the front and its mirror image).
+    pub fn growth_tangents(&self, fg: &FrontGrowth) -> BTreeMap<u32, Vector3> {
+        let crack = &self.cracks[fg.crack];
+        let pts = &crack.surface.vertices;
+        let at = |v: u32| pts[v as usize];
+        // The end that leads the other by more than half its own last move, at the crack
+        // particle it left at that move.
+        let behind = |a: &NodeGrowth, b: &NodeGrowth, v: u32| -> Vector3 {
+            match (a.from, a.last_step()) {
+                (Some(f), Some(step)) if a.advance - b.advance > 0.5 * step => at(f),
+                _ => at(v),
+            }
+        };
+        let span = |p: u32, q: u32| -> Vector3 {
+            match (fg.nodes.get(&p), fg.nodes.get(&q)) {
+                (Some(np), Some(nq)) => behind(nq, np, q) - behind(np, nq, p),
+                _ => at(q) - at(p),
+            }
+        };
+        let own = front_tangents(crack, |p, q| at(q) - at(p));
+        let mut out = front_tangents(crack, span);
+        let ends = front_degree(crack);
+        for (v, t) in out.iter_mut() {
+            if ends[v] != 1 {
+                continue;
+            }
+            let x = pts[*v as usize];
+            for (a, p) in self.symmetry_planes(&x) {
+                if p == x[a] && t[a] != 0.0 {
+                    let mut n = Vector3::zeros();
+                    n[a] = t[a];
+                    *t = n;
+                }
+            }
+        }
+        out.retain(|v, t| own.get(v) != Some(t));
+        out
     }
 
     /// The material boundary of the current particles (relative volume, current volumes).
@@ -419,4 +540,48 @@ pub fn mirrored_volume(b: &MaterialBoundary3, mat: usize, x: Vector3, planes: &[
         sum += b.relative_volume(mat, y);
     }
     sum
+}
+
+/// The number of front edges at each front node (1 at the ends of an open front).
+pub fn front_degree(crack: &crate::crack::three_d::Crack3) -> BTreeMap<u32, usize> {
+    let mut ends: BTreeMap<u32, usize> = BTreeMap::new();
+    for e in &crack.front {
+        for v in e {
+            *ends.entry(*v).or_default() += 1;
+        }
+    }
+    ends
+}
+
+/// The outward unit normal of the free face at x (module doc, item 5): minus the gradient
+/// of the relative volume (with the symmetry planes' images), by central differences half
+/// a cell either side along each axis; None where its magnitude times the cell is below
+/// [`FACE_GRADIENT`] (x is not at a face: on a flat face it is ¾, one cell inside ⅛). The
+/// driver asks at the point one cell behind a front end (along −x1, on the crack's side),
+/// so that a face the node is approaching does not tilt the normal of the face it is on.
+pub fn free_face(b: &MaterialBoundary3, mat: usize, x: Vector3, planes: &[(usize, f64)], h: f64) -> Option<Vector3> {
+    let mut g = Vector3::zeros();
+    for a in 0..3 {
+        let mut e = Vector3::zeros();
+        e[a] = 0.5 * h;
+        g[a] = (mirrored_volume(b, mat, x + e, planes) - mirrored_volume(b, mat, x - e, planes)) / h;
+    }
+    if g.norm() * h < FACE_GRADIENT {
+        return None;
+    }
+    Some(-g.normalize())
+}
+
+/// Relative-volume gradient (times the cell) above which a front end is on a free face.
+pub const FACE_GRADIENT: f64 = 0.25;
+
+/// The direction of growth `heading` projected on the face of outward normal n, unit;
+/// None if the heading is (nearly) normal to the face.
+pub fn along_face(heading: Vector3, n: Vector3) -> Option<Vector3> {
+    (heading - n * heading.dot(&n)).try_normalize(1e-6)
+}
+
+/// The mirror image of x across the plane through p with unit normal n.
+pub fn reflect(x: Vector3, p: Vector3, n: Vector3) -> Vector3 {
+    x - n * (2.0 * n.dot(&(x - p)))
 }

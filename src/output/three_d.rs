@@ -151,7 +151,7 @@ pub fn run_simulation_3d(scene: &Scene3, mut sim: Simulation<D3>, opts: &RunOpti
     let live = |s: &Simulation<D3>| -> Vec<Option<crate::fracture::front3::FrontRequest>> {
         match &s.growth {
             None => requests.clone(),
-            Some(g) => requests.iter().enumerate().map(|(c, r)| g.current_request(c).or_else(|| r.clone())).collect(),
+            Some(g) => requests.iter().enumerate().map(|(c, r)| g.current_request(s, c).or_else(|| r.clone())).collect(),
         }
     };
     // growth.csv: one row per front node per growth check, appended after every step.
