@@ -260,7 +260,8 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                     }
                     // One-sided triangles, in increasing index: the first that holds the
                     // node in its plane and closed area, with the particle off its plane.
-                    for j in 0..cache.near.len() {
+                    let scan = if cache.zero_one_sided & bit != 0 { cache.near.len() } else { 0 };
+                    for j in 0..scan {
                         let e = &cache.near[j];
                         if e.one_sided == 0 || e.zero & bit == 0 || (e.inside_known & bit != 0 && e.inside & bit == 0) {
                             continue;
@@ -306,6 +307,8 @@ struct CellCache {
     key: Option<(usize, Vector3, Vector3)>,
     nodes: Vec<u32>,
     near: Vec<NearTriangle>,
+    /// The nodes in the plane of some one-sided triangle (the others skip that scan).
+    zero_one_sided: u32,
     op: Vec<i8>,
     candidates: Vec<Candidate>,
 }
@@ -346,6 +349,7 @@ impl CellCache {
             self.near.push(NearTriangle { t: t as u32, padded: index.padded_box(t), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0 })
         });
         self.near.sort_unstable_by_key(|e| e.t);
+        self.zero_one_sided = 0;
         for e in self.near.iter_mut() {
             let tri = view.triangles[e.t as usize];
             let v = tri.map(|q| &view.points[q as usize]);
@@ -379,6 +383,9 @@ impl CellCache {
                     -1 => e.neg |= bit,
                     _ => e.zero |= bit,
                 }
+            }
+            if e.one_sided != 0 {
+                self.zero_one_sided |= e.zero;
             }
         }
     }
