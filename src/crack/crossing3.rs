@@ -155,27 +155,43 @@ enum Verdict {
     NodeOn(i8),
 }
 
-/// Triangle t's verdict for P → N, with `op` = P's exact side of t's plane
-/// ([`side_of_plane`], computed once per particle by the caller).
-fn triangle_verdict(s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3, op: i8) -> Verdict {
+/// The three edge signs orient3d(P, N, v_k, v_{k+1}) of triangle v for the line P → N.
+#[inline]
+fn edge_signs(p: &Vector3, n: &Vector3, v: &[&Vector3; 3]) -> [i8; 3] {
+    [0, 1, 2].map(|k| edge_sign(p, n, v[k], v[(k + 1) % 3]))
+}
+
+/// Rule 3's test: N, lying in the plane of triangle v, lies in the closed triangle iff
+/// the non-zero edge signs for the line P → N agree, P off the plane. The answer does not
+/// depend on P: each sign is orient3d(P, N, v_k, v_{k+1}) = ((N − v_{k+1}) × (v_k −
+/// v_{k+1}))·(P − v_{k+1}) up to one fixed sign, the cross product is normal to the plane
+/// (N, v_k, v_{k+1} lie in it), and its dot product with P − v_{k+1} is that normal's
+/// length times P's height above the plane, the same for every k; so P only flips all
+/// three signs together (the caller may cache the answer per node and triangle).
+#[inline]
+fn node_in_closed_triangle(e: &[i8; 3]) -> bool {
+    !(e.iter().any(|&x| x > 0) && e.iter().any(|&x| x < 0))
+}
+
+/// [`node_in_closed_triangle`] for node n in the plane of triangle t, with a particle p
+/// off that plane.
+pub fn node_in_triangle(s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3) -> bool {
+    let v = s.triangles[t].map(|i| &s.points[i as usize]);
+    node_in_closed_triangle(&edge_signs(p, n, &v))
+}
+
+/// Triangle t's verdict for P → N, with `op`, `on` = P's and N's exact sides of t's plane
+/// ([`side_of_plane`]; the caller computes them once per particle and per node).
+fn triangle_verdict(s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3, op: i8, on: i8) -> Verdict {
     let tri = s.triangles[t];
     let v = tri.map(|i| &s.points[i as usize]);
-    if op == 0 {
+    if op == 0 || on == op {
         return Verdict::Miss;
     }
-    let on = side_of_plane(v[0], v[1], v[2], n);
-    if on == op {
-        return Verdict::Miss;
-    }
-    let mut e = [0i8; 3];
-    for k in 0..3 {
-        e[k] = edge_sign(p, n, v[k], v[(k + 1) % 3]);
-    }
+    let mut e = edge_signs(p, n, &v);
     if on == 0 {
         // Rule 3: N in the closed triangle iff the non-zero edge signs agree.
-        let pos = e.iter().any(|&x| x > 0);
-        let neg = e.iter().any(|&x| x < 0);
-        return if pos && neg { Verdict::Miss } else { Verdict::NodeOn(op) };
+        return if node_in_closed_triangle(&e) { Verdict::NodeOn(op) } else { Verdict::Miss };
     }
     // Rule 2.
     let zeros = e.iter().filter(|&&x| x == 0).count();
@@ -237,13 +253,25 @@ impl Crossing3 {
     /// [`Self::add`] with P's side of t's plane already known (`op`, exact).
     #[inline]
     pub fn add_with_side(&mut self, s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3, op: i8) {
-        match triangle_verdict(s, t, p, n, op) {
+        let v = s.triangles[t].map(|i| &s.points[i as usize]);
+        self.add_with_sides(s, t, p, n, op, side_of_plane(v[0], v[1], v[2], n));
+    }
+
+    /// Rule 3's verdict of triangle t, already decided by the caller: N lies in the closed
+    /// triangle t, P on side `side` (±1) of its plane.
+    #[inline]
+    pub fn add_node_on(&mut self, t: usize, side: i8) {
+        if self.node_on.is_none_or(|(u, _)| t < u) {
+            self.node_on = Some((t, side));
+        }
+    }
+
+    /// [`Self::add`] with P's and N's sides of t's plane already known (`op`, `on`, exact).
+    #[inline]
+    pub fn add_with_sides(&mut self, s: &SurfaceView, t: usize, p: &Vector3, n: &Vector3, op: i8, on: i8) {
+        match triangle_verdict(s, t, p, n, op, on) {
             Verdict::Miss => {}
-            Verdict::NodeOn(side) => {
-                if self.node_on.is_none_or(|(u, _)| t < u) {
-                    self.node_on = Some((t, side));
-                }
-            }
+            Verdict::NodeOn(side) => self.add_node_on(t, side),
             Verdict::Cross(x, side) => {
                 self.count += 1;
                 if self.near_node.is_none_or(|(y, u, _)| x > y || (x == y && t < u)) {

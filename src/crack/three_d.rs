@@ -145,14 +145,25 @@ fn rebuild_indices(sim: &mut Simulation<D3>) {
 /// Task 1 with cracks: ν(p,i) for every pair by the exact crossing test, and the crack
 /// that split each node (the 2D [`Simulation::assign_velocity_fields`] with triangles).
 ///
-/// Screening, which changes no verdict: a triangle can give a pair anything but a miss
-/// only if the segment from particle to node meets the closed triangle
-/// ([`Crossing3::add`]), so only if the triangle's bounding box meets the box of the
-/// particle and all its nodes. A particle whose box misses every crack's bounding box
-/// (or, cheaper, whose reach h + l_p misses them) costs one box test per crack; near a crack, the bucket index lists the triangles whose
-/// boxes meet the particle's box once, with the particle's exact side of each plane
-/// (computed once for all its nodes), and each node tests only those whose (padded) box
-/// its segment passes through.
+/// Screening, which changes no verdict (every pair gets [`Crossing3`]'s answer over all
+/// triangles): a triangle can give a pair anything but a miss only if the segment from
+/// particle to node meets the closed triangle ([`Crossing3::add`]), so only if the
+/// triangle's bounding box meets the box B of the particle and all its nodes. A particle
+/// whose reach h + l_p misses every crack's bounding box costs one box test per crack.
+/// Near a crack, the particles of one cell share B and their nodes, so per B (the
+/// [`CellCache`]) the bucket index lists the triangles whose boxes meet B once, each with
+/// the exact side of its plane of every node and of the eight corners of B. A triangle
+/// whose plane has B on one side (no corner strictly on the other; "one-sided") has every
+/// point of B, the particle too, on that side or in the plane (orient3d is affine in the
+/// point, and B is the convex hull of its corners), so its only possible verdict is rule
+/// 3's with the particle on that side: a node in the plane inside the closed triangle
+/// (cached per node, [`crossing3::node_in_triangle`] does not depend on the particle) —
+/// and of those only the lowest triangle counts (rule 4), whose side is the particle's
+/// side of its plane. The other triangles ("two-sided") take the general test: the
+/// particle's exact side once, and each node whose side differs and whose segment passes
+/// through the triangle's padded box.
+///
+/// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
 fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     const STRIDE: usize = D3::MAX_NODES;
     rebuild_indices(sim);
@@ -170,7 +181,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         .into_par_iter()
         .with_min_len(crate::step::PARTICLE_CHUNK)
         .enumerate()
-        .map_init(NearCache::default, |cache: &mut NearCache, (i, (field, pair_crack))| {
+        .map_init(CellCache::default, |cache: &mut CellCache, (i, (field, pair_crack))| {
             field.fill(0);
             let xp = p.x[i];
             if !index.iter().any(|index| index.box_meets_extent(&(xp - reach), &(xp + reach))) {
@@ -184,42 +195,92 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                 lo = lo.inf(&xn[k]);
                 hi = hi.sup(&xn[k]);
             }
+            let xn = &xn[..nodes.len()];
             let mut split = false;
             for (c, crack) in cracks.iter().enumerate() {
                 if !index[c].box_meets_extent(&lo, &hi) {
                     continue;
                 }
                 let view = crack.view();
-                // The triangles near the particle's box (the previous particle's list when
-                // its box and crack were the same: particles of one cell usually share
-                // their nodes), each with the particle's exact side of its plane; in the
-                // plane: never a crossing (rule 1).
-                if cache.key != Some((c, lo, hi)) {
-                    cache.key = Some((c, lo, hi));
-                    cache.near.clear();
-                    index[c].near(&lo, &hi, |t| cache.near.push((t as u32, index[c].padded_box(t))));
-                }
-                let candidates = &mut cache.candidates;
-                candidates.clear();
-                for &(t, padded) in &cache.near {
-                    let v = view.triangles[t as usize].map(|q| &view.points[q as usize]);
-                    let op = side_of_plane(v[0], v[1], v[2], &xp);
-                    if op != 0 {
-                        candidates.push(Candidate { padded, t, op });
-                    }
-                }
-                if candidates.is_empty() {
+                cache.prepare(c, &lo, &hi, nodes, xn, &index[c], &view);
+                if cache.near.is_empty() {
                     continue;
                 }
-                for (k, xn) in xn[..nodes.len()].iter().enumerate() {
+                // The particle's exact side of each triangle's plane, when asked (2: not yet).
+                cache.op.clear();
+                cache.op.resize(cache.near.len(), 2);
+                let op_of = |op: &mut [i8], j: usize, e: &NearTriangle| {
+                    if op[j] == 2 {
+                        op[j] = match e.axis {
+                            Some((a, level, o)) => o * sign(xp[a] - level),
+                            None => {
+                                let v = view.triangles[e.t as usize].map(|q| &view.points[q as usize]);
+                                side_of_plane(v[0], v[1], v[2], &xp)
+                            }
+                        };
+                    }
+                    op[j]
+                };
+                // Two-sided triangles: the nodes on another side than the particle (all
+                // nodes where their sides are not cached).
+                let all = (1u32 << xn.len()) - 1;
+                let mut candidates = std::mem::take(&mut cache.candidates);
+                candidates.clear();
+                for (j, e) in cache.near.iter().enumerate() {
+                    if e.one_sided != 0 {
+                        continue;
+                    }
+                    let op = op_of(&mut cache.op, j, e);
+                    let other = match op {
+                        _ if e.axis.is_none() && op != 0 => all,
+                        1 => e.neg | e.zero,
+                        -1 => e.pos | e.zero,
+                        _ => 0,
+                    };
+                    if other != 0 {
+                        candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some() });
+                    }
+                }
+                for (k, xn) in xn.iter().enumerate() {
                     if field[k] != 0 {
                         continue;
                     }
+                    let bit = 1u32 << k;
                     let seg = [xp.inf(xn), xp.sup(xn)];
                     let mut acc = Crossing3::default();
-                    for q in candidates.iter() {
+                    for q in candidates.iter().filter(|q| q.other & bit != 0) {
                         if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
-                            acc.add_with_side(&view, q.t as usize, &xp, xn, q.op);
+                            if q.sides_known {
+                                let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
+                                acc.add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
+                            } else {
+                                acc.add_with_side(&view, q.t as usize, &xp, xn, q.op);
+                            }
+                        }
+                    }
+                    // One-sided triangles, in increasing index: the first that holds the
+                    // node in its plane and closed area, with the particle off its plane.
+                    let scan = if cache.zero_one_sided & bit != 0 { cache.near.len() } else { 0 };
+                    for j in 0..scan {
+                        let e = &cache.near[j];
+                        if e.one_sided == 0 || e.zero & bit == 0 || (e.inside_known & bit != 0 && e.inside & bit == 0) {
+                            continue;
+                        }
+                        let t = e.t;
+                        let op = op_of(&mut cache.op, j, e);
+                        if op == 0 {
+                            continue;
+                        }
+                        let e = &mut cache.near[j];
+                        if e.inside_known & bit == 0 {
+                            e.inside_known |= bit;
+                            if super::crossing3::node_in_triangle(&view, t as usize, &xp, xn) {
+                                e.inside |= bit;
+                            }
+                        }
+                        if e.inside & bit != 0 {
+                            acc.add_node_on(t as usize, op);
+                            break;
                         }
                     }
                     let side = acc.side();
@@ -229,6 +290,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         split = true;
                     }
                 }
+                cache.candidates = candidates;
             }
             split
         })
@@ -236,23 +298,117 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     super::record_node_cracks(sim).map_err(|(node, cracks)| too_many_fields(sim, node, cracks))
 }
 
-/// Per-thread scratch of Task 1: the triangles (with padded boxes) near the last
-/// particle's box `key` (crack, lower and upper corner), and the current particle's
-/// candidates.
+/// Per-thread scratch of Task 1: the triangles near the last box B of a particle and its
+/// nodes (`key`: crack, corners of B, nodes; particles of one cell usually share it), in
+/// increasing index, each with the nodes' sides of its plane; and the current particle's
+/// sides and two-sided candidates.
 #[derive(Default)]
-struct NearCache {
+struct CellCache {
     key: Option<(usize, Vector3, Vector3)>,
-    near: Vec<(u32, [Vector3; 2])>,
+    nodes: Vec<u32>,
+    near: Vec<NearTriangle>,
+    /// The nodes in the plane of some one-sided triangle (the others skip that scan).
+    zero_one_sided: u32,
+    op: Vec<i8>,
     candidates: Vec<Candidate>,
 }
 
-/// A triangle near a particle in Task 1: its padded bounding box
-/// ([`TriangleIndex::padded_box`], kept here so that each node's test reads it in order),
-/// index, and the particle's exact side of its plane.
+/// A triangle whose bounding box meets B: its index, padded box
+/// ([`TriangleIndex::padded_box`]), the nodes (bits by position in the particle's node
+/// list) above, below and in its plane (of a one-sided triangle only the nodes in its
+/// padded box), whether B lies on one side of the plane (+1, −1)
+/// or not (0), and, per node in the plane, whether it lies in the closed triangle
+/// (`inside`, valid where `inside_known`; filled when first asked).
+struct NearTriangle {
+    t: u32,
+    padded: [Vector3; 2],
+    pos: u32,
+    neg: u32,
+    zero: u32,
+    one_sided: i8,
+    /// For a triangle in an axis plane: the axis, the plane's level, and the sign of the
+    /// normal's component along the axis (so a point's side is that sign times the sign
+    /// of x_axis − level, exactly: the triple product reduces to that component).
+    axis: Option<(usize, f64, i8)>,
+    inside_known: u32,
+    inside: u32,
+}
+
+impl CellCache {
+    /// Make the cache hold B = [lo, hi] of crack c with these nodes.
+    #[allow(clippy::too_many_arguments)]
+    fn prepare(&mut self, c: usize, lo: &Vector3, hi: &Vector3, nodes: &[u32], xn: &[Vector3], index: &TriangleIndex, view: &SurfaceView) {
+        if self.key == Some((c, *lo, *hi)) && self.nodes == nodes {
+            return;
+        }
+        self.key = Some((c, *lo, *hi));
+        self.nodes.clear();
+        self.nodes.extend_from_slice(nodes);
+        self.near.clear();
+        index.near(lo, hi, |t| {
+            self.near.push(NearTriangle { t: t as u32, padded: index.padded_box(t), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0 })
+        });
+        self.near.sort_unstable_by_key(|e| e.t);
+        self.zero_one_sided = 0;
+        for e in self.near.iter_mut() {
+            let tri = view.triangles[e.t as usize];
+            let v = tri.map(|q| &view.points[q as usize]);
+            // Only a triangle in an axis plane x_a = level is classified here (exactly and
+            // cheaply); the others take the general test.
+            let Some(a) = (0..3).find(|&a| v[0][a] == v[1][a] && v[1][a] == v[2][a]) else { continue };
+            let level = v[0][a];
+            // The sign of its normal's a-component: the side of v0 + e_a (level + 1 > level).
+            let mut up = *v[0];
+            up[a] += 1.0;
+            let o = side_of_plane(v[0], v[1], v[2], &up);
+            e.axis = Some((a, level, o));
+            // Every point x of B has the side o · sign(x_a − level).
+            e.one_sided = if lo[a] >= level && hi[a] > level {
+                o
+            } else if hi[a] <= level && lo[a] < level {
+                -o
+            } else {
+                0
+            };
+            let [pl, ph] = &e.padded;
+            for (k, x) in xn.iter().enumerate() {
+                // One-sided: only a node in the plane and in the closed triangle matters, so
+                // only nodes in its (padded) box are looked at.
+                if e.one_sided != 0 && (0..3).any(|c| x[c] < pl[c] || x[c] > ph[c]) {
+                    continue;
+                }
+                let bit = 1u32 << k;
+                match o * sign(x[a] - level) {
+                    1 => e.pos |= bit,
+                    -1 => e.neg |= bit,
+                    _ => e.zero |= bit,
+                }
+            }
+            if e.one_sided != 0 {
+                self.zero_one_sided |= e.zero;
+            }
+        }
+    }
+}
+
+/// The sign of x (0 for ±0).
+#[inline]
+fn sign(x: f64) -> i8 {
+    (x > 0.0) as i8 - (x < 0.0) as i8
+}
+
+/// A two-sided triangle near a particle in Task 1: its padded bounding box, index, the
+/// particle's exact side of its plane, the nodes on another side (`other`), and the
+/// nodes above it and in its plane.
 struct Candidate {
     padded: [Vector3; 2],
     t: u32,
     op: i8,
+    other: u32,
+    pos: u32,
+    zero: u32,
+    /// Whether `pos` and `zero` hold the nodes' sides (axis-plane triangles).
+    sides_known: bool,
 }
 
 fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> CheckError {
