@@ -35,8 +35,8 @@
 //!   on a free face or a symmetry plane, whose cylinder is half outside the body: without
 //!   the halving such a node got half the volume term of its neighbours — case
 //!   `front_j_path`, plane-strain slab); each particle weighted by the fraction of its
-//!   undeformed domain inside the cylinder ([`cylinder_fraction`]); with v, a (the acceleration without loads,
-//!   body forces and damping, [`crate::fracture::jintegral::area_acceleration`]) and ∂v/∂x
+//!   undeformed domain inside the cylinder ([`cylinder_fraction`]); with v, a (the
+//!   acceleration without loads, body forces and damping, [`crate::fracture::jintegral::area_acceleration`]) and ∂v/∂x
 //!   from the nodal fields of each particle's own pairs, as in 2D. Not included: the
 //!   x₃-derivative term −∫_A ∂(σ₃ⱼ ∂u_j/∂x₁)/∂x₃ dA of a front whose fields vary along it,
 //!   and the curvature of a curved front: on a penny crack the planar contour overestimates
@@ -334,8 +334,6 @@ pub struct NodalValues3 {
 /// Stress (6) + displacement gradient (9) + W + ρ.
 const NQ3: usize = 17;
 
-/// Field preference for the material on one side: the field seen across the crack from
-/// that side (1 above, 2 below), else the node's own field 0 (Nairn 2003 §2.1).
 /// Sub-points per axis of a particle's domain in [`cylinder_fraction`].
 const FRACTION_POINTS: usize = 8;
 
@@ -364,11 +362,12 @@ fn cylinder_fraction(d: &Vector3, lp: &Vector3, frame: &FrontFrame, r: f64, slab
         return 0.0;
     }
     let n = FRACTION_POINTS;
+    // Sub-box centres in units of lp: (2m + 1)/n − 1, m = 0 … n − 1.
+    let f = |m: usize| (2.0 * m as f64 + 1.0) / n as f64 - 1.0;
     let mut inside = 0usize;
     for i in 0..n {
         for j in 0..n {
             for k in 0..n {
-                let f = |m: usize| (2.0 * m as f64 + 1.0) / n as f64 - 1.0;
                 let q = d + Vector3::new(f(i) * lp.x, f(j) * lp.y, f(k) * lp.z);
                 let (radial, axial) = at(&q);
                 inside += usize::from(radial <= r && axial <= half);
@@ -378,6 +377,8 @@ fn cylinder_fraction(d: &Vector3, lp: &Vector3, frame: &FrontFrame, r: f64, slab
     inside as f64 / (n * n * n) as f64
 }
 
+/// Field preference for the material on one side: the field seen across the crack from
+/// that side (1 above, 2 below), else the node's own field 0 (Nairn 2003 §2.1).
 fn side_fields(upper: bool) -> [usize; 2] {
     if upper {
         [1, 0]
@@ -493,11 +494,12 @@ impl Simulation<D3> {
         let mut sum = [ExactSum::new(), ExactSum::new(), ExactSum::new()];
         let (mut behind, mut ahead) = (false, false);
         for i in 0..p.len() {
-            let w = cylinder_fraction(&(p.x[i] - x0), &p.lp[i], frame, r, slab);
+            let d = p.x[i] - x0;
+            let w = cylinder_fraction(&d, &p.lp[i], frame, r, slab);
             if w == 0.0 {
                 continue;
             }
-            let c = (p.x[i] - x0).dot(&frame.e3);
+            let c = d.dot(&frame.e3);
             behind |= c <= 0.0;
             ahead |= c >= 0.0;
             let mut acc: [ExactSum; 15] = Default::default();

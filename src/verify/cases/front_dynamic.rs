@@ -79,7 +79,7 @@ fn mid_node(front: &[FrontResult]) -> usize {
     (0..front.len()).min_by(|&i, &k| (front[i].x.z - 0.5 * B).abs().total_cmp(&(front[k].x.z - 0.5 * B).abs())).expect("front nodes")
 }
 
-/// K_III/2p√(2c_s/π) reference at t (TPa√mm), p = 2τ.
+/// The closed-form K_III(t) = 2p√(2c_s(t − t₀)/π), p = 2τ (TPa√mm; 0 before t₀).
 pub fn k3_sh(cs: f64, t: f64, t0: f64) -> f64 {
     if t <= t0 {
         return 0.0;
