@@ -104,11 +104,19 @@ pub struct SolverSpec {
     /// visibility, the alternative Nairn 2003 §3.1 compares with).
     #[serde(default)]
     pub crack_method: CrackMethod,
+    /// Length of the crack-tip zone in cells (2D; default 0, none): pairs meeting a crack
+    /// within half of it from a tip are shared between fields (crack::tip_zone).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub tip_zone: f64,
     /// Largest number of time steps the run may take (default [`DEFAULT_MAX_STEPS`]): a
     /// scene needing more is refused, so a typo in end_time or dt cannot start a run of
     /// years. Raise it to allow a longer run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_steps: Option<u64>,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// Default of `solver.max_steps`: 10⁸ steps (days of run time for a few thousand particles).
@@ -594,6 +602,10 @@ pub(crate) fn validate_solver(s: &SolverSpec, output: &OutputSpec) -> Result<(),
     if s.damping < 0.0 {
         return Err(invalid("solver.damping", format!("must be zero or positive, got {}", s.damping)));
     }
+    finite("solver.tip_zone", s.tip_zone)?;
+    if !(0.0..=4.0).contains(&s.tip_zone) {
+        return Err(invalid("solver.tip_zone", format!("must be 0 (none) to 4 cells, got {}", s.tip_zone)));
+    }
     if s.particles_per_cell == 0 || s.particles_per_cell > 8 {
         return Err(invalid("solver.particles_per_cell", format!("must be 1 to 8, got {}", s.particles_per_cell)));
     }
@@ -795,6 +807,9 @@ impl Scene {
                     return Err(invalid(format!("cracks[{i}].contact.friction.mu"), format!("must be zero or positive, got {mu}")));
                 }
             }
+            if self.solver.crack_method == CrackMethod::Visibility && self.solver.tip_zone != 0.0 {
+                return Err(invalid("solver.tip_zone", "is a rule for CRAMP's velocity fields; crack_method = \"visibility\" has none (set tip_zone = 0)"));
+            }
             if self.solver.crack_method == CrackMethod::Visibility && c.contact != ContactSpec::None {
                 return Err(invalid(
                     format!("cracks[{i}].contact"),
@@ -979,6 +994,7 @@ impl Scene {
             damping_on: self.solver.damping_on,
             checked: self.solver.checked,
             crack_method: self.solver.crack_method,
+            tip_zone: self.solver.tip_zone * self.grid.cell[0].max(self.grid.cell[1]),
         };
         let body_force = self.bodies.iter().map(|b| v(b.body_force)).collect();
         let thickness = self.bodies.iter().map(|b| b.thickness).collect();

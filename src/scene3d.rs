@@ -907,6 +907,7 @@ impl Scene3 {
             damping_on: self.solver.damping_on,
             checked: self.solver.checked,
             crack_method: self.solver.crack_method,
+            tip_zone: 0.0,
         };
         let body_force = self.bodies.iter().map(|b| v3(b.body_force)).collect();
         let thickness = vec![1.0; self.bodies.len()];
@@ -979,6 +980,9 @@ impl Scene3 {
                 if e < 1e-3 * self.grid.cell.iter().fold(f64::INFINITY, |a, &b| a.min(b)) {
                     return Err(invalid(f("edge"), format!("{e} is below a thousandth of a cell: the surface would have millions of triangles")));
                 }
+            }
+            if self.solver.tip_zone != 0.0 {
+                return Err(invalid("solver.tip_zone", "the crack-tip zone is 2D only (3D fronts use CRAMP's pairs)"));
             }
             if self.solver.crack_method != crate::crack::CrackMethod::VelocityFields {
                 return Err(invalid("solver.crack_method", "3D cracks use CRAMP's velocity fields only"));

@@ -93,6 +93,9 @@ pub struct Options {
     pub checked: bool,
     /// How cracks act on the particle–node pairs (CRAMP velocity fields by default).
     pub crack_method: CrackMethod,
+    /// Length of the crack-tip zone ([`crate::crack::tip_zone`]; 2D), 0 for none (the
+    /// papers' all-or-nothing pairs).
+    pub tip_zone: f64,
 }
 
 /// A load on a set of particles: the same force on each, ramped linearly from zero over
@@ -195,6 +198,10 @@ pub struct Pairs<S: Space = D2> {
     pub g: Vec<S::Vector>,
     /// Velocity field ν(p,i) ∈ {0,1,2} (eq. 2); all 0 without cracks.
     pub field: Vec<u8>,
+    /// Share of the particle in field `field` at this node: 1 except for pairs in a
+    /// crack-tip zone ([`crate::crack::tip_zone`], 2D), whose remaining 1 − share is in
+    /// field 0.
+    pub frac: Vec<f64>,
     /// Compact index of each node active this step (u32::MAX: not active); reset on the
     /// active nodes only, so its upkeep scales with the material, not the grid.
     pub slot: Vec<u32>,
@@ -213,6 +220,7 @@ impl<S: Space> Pairs<S> {
             s: vec![0.0; np * stride],
             g: vec![S::Vector::zeros(); np * stride],
             field: vec![0; np * stride],
+            frac: vec![1.0; np * stride],
             slot: vec![u32::MAX; nn],
             start: Vec::new(),
             items: Vec::with_capacity(np * stride),

@@ -730,7 +730,15 @@ impl<S: Dimension> Simulation<S> {
             for c in 0..S::DIM {
                 lanes[c + 1] = m * p.v[pp][c] * s;
             }
-            acc[f].add_lanes(lanes);
+            let w = if FIELDS { pairs.frac[item] } else { 1.0 };
+            if w != 1.0 {
+                // A pair in a crack-tip zone: shared with field 0 (crack::tip_zone).
+                present |= 1;
+                acc[f].add_lanes(scaled(lanes, S::DIM + 1, w));
+                acc[0].add_lanes(scaled(lanes, S::DIM + 1, 1.0 - w));
+            } else {
+                acc[f].add_lanes(lanes);
+            }
             if VOLUME {
                 // Nodal area (eq. 27 per unit thickness), compared with the cell area.
                 // The particle's current area, eq. 25 per unit thickness (only the pairs of
@@ -768,13 +776,22 @@ impl<S: Dimension> Simulation<S> {
             for c in 0..S::DIM {
                 lanes[c] = -(v0 * t[c]);
             }
-            int[f].add_lanes(lanes);
+            // A pair in a crack-tip zone is shared between two fields (crack::tip_zone).
+            let w = if CRACKS { pairs.frac[item] } else { 1.0 };
+            let alt = if w != 1.0 { 0 } else { f };
+            if w != 1.0 {
+                int[f].add_lanes(scaled(lanes, S::DIM, w));
+                int[alt].add_lanes(scaled(lanes, S::DIM, 1.0 - w));
+            } else {
+                int[f].add_lanes(lanes);
+            }
             if has_ext {
                 let force = p.force[pp];
                 if !has_body && (0..S::DIM).all(|c| force[c].to_bits() == 0) && p.mass[pp].is_finite() {
                     // An unloaded particle: f_p = +0 + (±0)·m = (+0, +0) exactly, and its
                     // terms +0·S = +0 only decide the sign of an all-zero sum (below).
                     skipped_zeros[f] = true;
+                    skipped_zeros[alt] = true;
                 } else {
                     let s = pairs.s[item];
                     let fp = force + self.body_force[p.body[pp] as usize] * p.mass[pp];
@@ -782,7 +799,12 @@ impl<S: Dimension> Simulation<S> {
                     for c in 0..S::DIM {
                         lanes[c] = fp[c] * s;
                     }
-                    ext[f].add_lanes(lanes);
+                    if w != 1.0 {
+                        ext[f].add_lanes(scaled(lanes, S::DIM, w));
+                        ext[alt].add_lanes(scaled(lanes, S::DIM, 1.0 - w));
+                    } else {
+                        ext[f].add_lanes(lanes);
+                    }
                 }
             }
         }
@@ -818,7 +840,14 @@ impl<S: Dimension> Simulation<S> {
             for c in 0..S::DIM {
                 lanes[c] = m * p.v[pp][c] * s;
             }
-            acc[f].add_lanes(lanes);
+            let w = if CRACKS { pairs.frac[item] } else { 1.0 };
+            if w != 1.0 {
+                // A pair in a crack-tip zone: shared with field 0 (crack::tip_zone).
+                acc[f].add_lanes(scaled(lanes, S::DIM, w));
+                acc[0].add_lanes(scaled(lanes, S::DIM, 1.0 - w));
+            } else {
+                acc[f].add_lanes(lanes);
+            }
         }
         let mut out = [S::Vector::zeros(); MAX_FIELDS];
         for (f, mom) in out.iter_mut().enumerate().take(self.nodes.fields.len()) {
@@ -837,9 +866,14 @@ impl<S: Dimension> Simulation<S> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
         let mut l = K::Of::<S::TensorLanes>::default();
         let k = pairs.of_particle(i);
-        for ((&f, &node), g) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.g[k]) {
+        for (((&f, &node), g), item) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.g[k.clone()]).zip(k) {
             let f = if CRACKS { f as usize } else { 0 };
-            let v = nodes.fields[f].vel[node as usize];
+            let mut v = nodes.fields[f].vel[node as usize];
+            if CRACKS && pairs.frac[item] != 1.0 {
+                // A pair in a crack-tip zone sees its two fields' velocities in its shares.
+                let w = pairs.frac[item];
+                v = v * w + nodes.fields[0].vel[node as usize] * (1.0 - w);
+            }
             let mut lanes = S::TENSOR_TERM;
             for a in 0..S::DIM {
                 for b in 0..S::DIM {
@@ -859,19 +893,35 @@ impl<S: Dimension> Simulation<S> {
         let (nodes, pairs) = (&self.nodes, &self.pairs);
         let mut s = K::Of::<S::IncLanes>::default();
         let k = pairs.of_particle(i);
-        for ((&f, &n), &w) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.s[k]) {
+        for (((&f, &n), &w), item) in pairs.field[k.clone()].iter().zip(&pairs.node[k.clone()]).zip(&pairs.s[k.clone()]).zip(k) {
             let fa = &nodes.fields[if CRACKS { f as usize } else { 0 }];
             let n = n as usize;
+            let (mut vel, mut acc) = (fa.vel[n], fa.acc[n]);
+            if CRACKS && pairs.frac[item] != 1.0 {
+                // A pair in a crack-tip zone moves with its two fields in its shares.
+                let (share, fb) = (pairs.frac[item], &nodes.fields[0]);
+                vel = vel * share + fb.vel[n] * (1.0 - share);
+                acc = acc * share + fb.acc[n] * (1.0 - share);
+            }
             let mut lanes = S::IncLanes::default();
             for c in 0..S::DIM {
-                lanes[c] = w * fa.vel[n][c];
-                lanes[S::DIM + c] = w * fa.acc[n][c];
+                lanes[c] = w * vel[c];
+                lanes[S::DIM + c] = w * acc[c];
             }
             s.add_lanes(lanes);
         }
         let l = s.certified_lanes()?;
         Some((S::Vector::from_fn(|c| l[c]), S::Vector::from_fn(|c| l[S::DIM + c])))
     }
+}
+
+/// The first `n` lanes of `l` times `w` (a pair's share of a field, crack::tip_zone).
+#[inline(always)]
+fn scaled<L: crate::exact::Lanes>(mut l: L, n: usize, w: f64) -> L {
+    for c in 0..n {
+        l[c] *= w;
+    }
+    l
 }
 
 /// The fast sums if they certify their results, else the gather again with [`Exact`]

@@ -9,6 +9,7 @@ pub mod crossing3;
 pub mod geometry;
 pub mod surface;
 pub mod three_d;
+pub mod tip_zone;
 mod visibility;
 
 use crate::check::CheckError;
@@ -352,16 +353,20 @@ impl Simulation {
         }
         let index = &scratch.crack_index;
         scratch.pair_crack.resize(pairs.field.len(), 0);
+        // The crack-tip zones of this step (none unless `solver.tip_zone` is set).
+        let z = self.options.tip_zone;
+        let zones = tip_zone::zones(cracks, z, &p.x, &p.lp);
+        let zones = &zones;
         // A particle's nodes lie within h + l_p of it per axis: a node has a weight only if
         // the rounded distance fl(x_p − x_n) is below h + l_p, and the rounding is at most
         // a relative 2^−53; the factor 1 + 10⁻⁹ covers it (and the rounding of the bound).
         let reach = (grid.h + p.lp.iter().fold(Vector::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
         let (count, node) = (&pairs.count, &pairs.node);
-        (pairs.field.par_chunks_mut(MAX_NODES), scratch.pair_crack.par_chunks_mut(MAX_NODES))
+        (pairs.field.par_chunks_mut(MAX_NODES), scratch.pair_crack.par_chunks_mut(MAX_NODES), pairs.frac.par_chunks_mut(MAX_NODES))
             .into_par_iter()
             .with_min_len(crate::step::PARTICLE_CHUNK)
             .enumerate()
-            .map(|(i, (field, pair_crack))| {
+            .map(|(i, (field, pair_crack, frac))| {
                 let field: &mut [u8; MAX_NODES] = field.try_into().expect("a stride of the pair arrays");
                 let n = count[i] as usize;
                 let xp = p.x[i];
@@ -371,19 +376,40 @@ impl Simulation {
                 if cracks.iter().all(|c| !near_extent(&c.extent, xp, reach)) {
                     // The whole stride (a fixed length: no call to memset).
                     field.fill(0);
+                    if z > 0.0 {
+                        frac.fill(1.0);
+                    }
                     return false;
                 }
+                // The tip zones within reach of this particle's nodes.
+                let near_zone = |zn: &tip_zone::TipZone| (zn.tip - xp).abs().iter().zip(reach.iter()).all(|(d, r)| *d <= r + z);
                 let mut split = false;
                 for k in 0..n {
                     let xn = grid.node_pos(node[i * MAX_NODES + k] as usize);
                     field[k] = 0;
+                    if z > 0.0 {
+                        frac[k] = 1.0;
+                    }
                     for (c, crack) in cracks.iter().enumerate() {
-                        let side = geometry::crossing_detail_indexed(&crack.points, &crack.extent, &index[c], xp, xn)
-                            .map_or(Side::None, |x| x.side);
+                        let x = geometry::crossing_detail_indexed(&crack.points, &crack.extent, &index[c], xp, xn);
+                        let side = x.map_or(Side::None, |x| x.side);
                         if side != Side::None {
                             field[k] = field_of(side);
                             pair_crack[k] = c as u16;
                             split = true;
+                            // Within a tip zone, part of the particle stays in field 0.
+                            if let Some(x) = x {
+                                for zn in zones.iter().filter(|zn| zn.crack == c && near_zone(zn)) {
+                                    if let Some(phi) = tip_zone::share(zn, &crack.points, &x, xp, xn, z) {
+                                        frac[k] = frac[k].min(phi);
+                                    }
+                                }
+                                // A share of nothing (the line through the tip): field 0.
+                                if frac[k] == 0.0 {
+                                    field[k] = 0;
+                                    frac[k] = 1.0;
+                                }
+                            }
                             break;
                         }
                     }
@@ -706,3 +732,4 @@ mod tests {
         });
     }
 }
+

@@ -496,7 +496,13 @@ impl Simulation {
                 let fa = &nodes.fields[pairs.field[k] as usize];
                 let node = pairs.node[k] as usize;
                 let m = fa.mass[node];
-                let (v, a) = (fa.mom[node] / m, area_acceleration(fa, node, self.options.damping));
+                let (mut v, mut a) = (fa.mom[node] / m, area_acceleration(fa, node, self.options.damping));
+                if pairs.frac[k] != 1.0 {
+                    // A pair in a crack-tip zone: its two fields in their shares (crack::tip_zone).
+                    let (w, fb) = (pairs.frac[k], &nodes.fields[0]);
+                    v = v * w + fb.mom[node] / fb.mass[node] * (1.0 - w);
+                    a = a * w + area_acceleration(fb, node, self.options.damping) * (1.0 - w);
+                }
                 let (s, gr) = (pairs.s[k], pairs.g[k]);
                 acc[0].add(s * a.x);
                 acc[1].add(s * a.y);

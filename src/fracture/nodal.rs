@@ -84,6 +84,14 @@ impl Simulation {
                 p.x[pp].x - p.x0[pp].x,
                 p.x[pp].y - p.x0[pp].y,
             ];
+            // A pair in a crack-tip zone is shared with field 0 (crack::tip_zone).
+            let share = pairs.frac[item];
+            if share != 1.0 {
+                for (a, v) in acc[0].iter_mut().zip(q) {
+                    a.add(w * (1.0 - share) * v);
+                }
+            }
+            let w = if share != 1.0 { w * share } else { w };
             for (a, v) in acc[f].iter_mut().zip(q) {
                 a.add(w * v);
             }

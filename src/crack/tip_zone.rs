@@ -1,0 +1,180 @@
+//! The crack-tip zone (2D): a pair whose line meets the crack within a zone length z of
+//! a tip is shared between the crossing field and field 0, in proportion to how far
+//! behind the tip it meets the crack — the "transparency" of Organ, Fleming & Belytschko
+//! (1996, Comput. Mech. 18:225–235) carried over from meshfree weights to CRAMP's fields.
+//!
+//! Why. CRAMP's rule (Nairn 2003 §2.1) is all-or-nothing per pair: a pair is in the
+//! crossing field iff its line meets the crack. Seen from one node, the material in the
+//! crossing field is the crack's "shadow", bounded by the crack and by the ray from the
+//! node through the tip, so every split node near a tip also cuts the material *ahead*
+//! of the tip along its own ray (the spurious discontinuity of the visibility criterion
+//! that transparency removes). Which pairs are cut changes in steps as the tip, the
+//! particles or the nodes move, so the crack the grid sees ends somewhere within a cell
+//! of the tip, at a place that depends on where the tip sits in its cell: J and K of one
+//! static crack moved by ±3–8 % with the tip's position (issue 22; docs/scene.md).
+//!
+//! The rule. A pair whose line meets the crack at arc distance s < z behind the tip
+//! puts the fraction φ = s/z of its particle's mass, momentum and force into the
+//! crossing field and 1 − φ into field 0, and moves with the two fields' velocities in
+//! those shares; φ = 1 (CRAMP) for s ≥ z. On the ray through the tip φ = 0, the value
+//! of the pairs that miss the crack, so the shadow's edge no longer cuts the material,
+//! and a node's crossing field fills continuously as the tip, the particles and the
+//! nodes move. (A zone centred on the tip, φ = ½ + s/z with the crack's continuation
+//! cut by ½ − s′/z, was tried and is worse: the partly cut pairs ahead of the tip act
+//! as crack, +8 … +12 % in K_I on the SENT below.)
+//!
+//! Limits. A node lying exactly on the crack (a crack along a grid line) has material
+//! across the crack on both sides and no field of its own side to share with; its pairs
+//! keep CRAMP's rule, so such a crack still ends in steps at the nodes of its line (put
+//! cracks between node lines). Only tips inside the material have a zone: a tip whose
+//! point z + l_p ahead is not within 1.5 l_p of a particle (the start of an edge crack,
+//! a tip about to break through) keeps CRAMP's rule, so a crack face at a free surface
+//! stays fully open.
+
+use super::geometry::{orientation, Crossing, Sign, Site};
+use super::Crack;
+use crate::dim::Vector;
+
+/// One tip with a zone: its crack, the tip, and the arc distance from each crack point
+/// within z of the tip.
+#[derive(Clone, Debug)]
+pub struct TipZone {
+    pub crack: usize,
+    /// The tip.
+    pub tip: Vector,
+    /// Is the tip the crack's first point?
+    pub at_start: bool,
+    /// Arc length from each crack point to the tip (0 at the tip), for the points the zone
+    /// reaches, indexed by crack point (`f64::INFINITY` beyond the zone).
+    pub arc: Vec<f64>,
+}
+
+/// The zones of this step: every crack end whose point z + l_p ahead (l_p the largest
+/// particle half-width) lies within 1.5 half-widths of some particle.
+pub fn zones(cracks: &[Crack], z: f64, x: &[Vector], lp: &[Vector]) -> Vec<TipZone> {
+    let mut out = Vec::new();
+    if z <= 0.0 {
+        return out;
+    }
+    let lmax = lp.iter().fold(0.0f64, |m, l| m.max(l.x).max(l.y));
+    for (c, crack) in cracks.iter().enumerate() {
+        let pts = &crack.points;
+        let n = pts.len();
+        if n < 2 {
+            continue;
+        }
+        for at_start in [true, false] {
+            let (tip_index, prev) = if at_start { (0, 1) } else { (n - 1, n - 2) };
+            let tip = pts[tip_index];
+            let d = tip - pts[prev];
+            let l = d.norm();
+            if l == 0.0 {
+                continue;
+            }
+            // The domains of a lattice only touch, the crack runs along their edges and
+            // the material moves: hence 1.5 half-widths; a point l_p or more outside the
+            // body's edge is 2 l_p from the nearest particle.
+            let probe = tip + d * ((z + lmax) / l);
+            let inside = x.iter().zip(lp).any(|(xp, l)| (xp.x - probe.x).abs() <= 1.5 * l.x && (xp.y - probe.y).abs() <= 1.5 * l.y);
+            if !inside {
+                continue;
+            }
+            let mut arc = vec![f64::INFINITY; n];
+            arc[tip_index] = 0.0;
+            let (mut s, mut last) = (0.0, tip);
+            let order: Box<dyn Iterator<Item = usize>> = if at_start { Box::new(1..n) } else { Box::new((0..n - 1).rev()) };
+            for j in order {
+                s += (pts[j] - last).norm();
+                arc[j] = s;
+                last = pts[j];
+                if s >= z {
+                    break;
+                }
+            }
+            out.push(TipZone { crack: c, tip, at_start, arc });
+        }
+    }
+    out
+}
+
+/// The share φ = s/z of the pair's particle in the crossing field, for a pair whose line
+/// crosses crack `zone.crack` (the exact crossing test's result `x`) at arc distance
+/// s < z behind the tip. None beyond the zone, and for a node on the crack (see Limits).
+pub fn share(zone: &TipZone, points: &[Vector], x: &Crossing, xp: Vector, xn: Vector, z: f64) -> Option<f64> {
+    let on_crack = match x.site {
+        Site::Vertex(j) => points[j] == xn,
+        Site::Segment(i) => orientation(points[i], points[i + 1], xn) == Sign::Zero,
+    };
+    if on_crack {
+        return None;
+    }
+    let s = match x.site {
+        Site::Vertex(j) => zone.arc[j],
+        Site::Segment(i) => {
+            // The segment's end nearer the tip (along the crack) and its arc distance.
+            let (near, far) = if zone.at_start { (i, i + 1) } else { (i + 1, i) };
+            let a = zone.arc[near];
+            if !a.is_finite() {
+                return None;
+            }
+            a + (crossing_point(points[i], points[i + 1], xp, xn) - points[near]).norm().min((points[far] - points[near]).norm())
+        }
+    };
+    (s < z).then(|| s / z)
+}
+
+/// The point where the line through a, b meets the line through p, q (rounded; the
+/// caller knows they cross).
+fn crossing_point(a: Vector, b: Vector, p: Vector, q: Vector) -> Vector {
+    let d = b - a;
+    let r = q - p;
+    let den = d.x * r.y - d.y * r.x;
+    if den == 0.0 {
+        return a;
+    }
+    let t = ((p.x - a.x) * r.y - (p.y - a.y) * r.x) / den;
+    a + d * t.clamp(0.0, 1.0)
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::crack::geometry::{crossing_detail, Extent};
+    use crate::crack::ContactLaw;
+
+    fn crack(points: Vec<Vector>) -> Crack {
+        Crack::new(points, ContactLaw::None, 0.9, 0.95)
+    }
+
+    /// A straight crack y = 0.5 from x = −1 to the tip at x = 2.3 inside a lattice of
+    /// particles: pairs crossing it s behind the tip get φ = s/z, none beyond z, none for a
+    /// node on the crack; an edge tip outside the material gets no zone.
+    #[test]
+    fn shares_follow_the_distance_behind_the_tip() {
+        let pts = vec![Vector::new(-1.0, 0.5), Vector::new(0.0, 0.5), Vector::new(1.0, 0.5), Vector::new(2.0, 0.5), Vector::new(2.3, 0.5)];
+        let c = crack(pts.clone());
+        let x: Vec<Vector> = (0..40).flat_map(|i| (0..8).map(move |j| Vector::new(0.25 + 0.5 * i as f64, -1.75 + 0.5 * j as f64))).collect();
+        let lp = vec![Vector::new(0.25, 0.25); x.len()];
+        let z = 1.0;
+        let zones = zones(std::slice::from_ref(&c), z, &x, &lp);
+        // The start (x = −1) is outside the material (particles from x = 0): no zone.
+        assert_eq!(zones.len(), 1);
+        let zn = &zones[0];
+        assert!(!zn.at_start && zn.tip == Vector::new(2.3, 0.5));
+        let ext = Extent::of(&pts);
+        let phi = |xp: Vector, xn: Vector| crossing_detail(&pts, &ext, xp, xn).and_then(|x| share(zn, &pts, &x, xp, xn, z));
+        // Crossing at x = 2.0 (0.3 behind): φ = 0.3.
+        let got = phi(Vector::new(2.0, 0.25), Vector::new(2.0, 1.0)).unwrap();
+        assert!((got - 0.3).abs() < 1e-12, "{got}");
+        // Crossing at x = 1.5 (0.8 behind): φ = 0.8; at x = 1.0 (1.3 behind): none (CRAMP).
+        let got = phi(Vector::new(1.5, 0.25), Vector::new(1.5, 1.0)).unwrap();
+        assert!((got - 0.8).abs() < 1e-12, "{got}");
+        assert_eq!(phi(Vector::new(1.0, 0.25), Vector::new(1.0, 1.0)), None);
+        // A slanted line crossing at x = 2.2: φ = 0.1.
+        let got = phi(Vector::new(2.1, 0.25), Vector::new(2.4, 1.0)).unwrap();
+        assert!((got - (2.3 - (2.1 + 0.3 * 0.25 / 0.75))).abs() < 1e-12, "{got}");
+        // A node on the crack keeps CRAMP's rule.
+        assert_eq!(phi(Vector::new(2.0, 0.25), Vector::new(2.0, 0.5)), None);
+    }
+}
