@@ -353,7 +353,7 @@ pub struct FractureSpec {
     pub growth: Option<GrowthSpec>,
 }
 
-/// `cracks[].fracture.growth = { increment = 0.5, every = 1, max_speed = … }`.
+/// `cracks[].fracture.growth = { increment = 0.5, every = 1, max_speed = …, speed_correction = false, speed_window = 4 }`.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct GrowthSpec {
@@ -366,6 +366,14 @@ pub struct GrowthSpec {
     /// Optional upper limit on the tip speed (the Rayleigh speed always limits it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_speed: Option<f64>,
+    /// Split K_I, K_II with the crack-speed factors of the tip's speed estimate (001 eqs.
+    /// 14–17); default false: their slow limit, as the papers' runs (001 §3.1) and
+    /// NairnMPM do.
+    #[serde(default)]
+    pub speed_correction: bool,
+    /// Number of past increments the tip-speed estimate spans (default 4).
+    #[serde(default = "default_speed_window")]
+    pub speed_window: usize,
 }
 
 impl GrowthSpec {
@@ -382,6 +390,9 @@ impl GrowthSpec {
         if let Some(vmax) = self.max_speed {
             positive(&f("max_speed"), vmax)?;
         }
+        if self.speed_window == 0 {
+            return Err(invalid(f("speed_window"), "must be at least 1 (increments the tip-speed estimate spans)"));
+        }
         if !any_toughness {
             return Err(invalid(field, "the crack may grow but no material has a `toughness` (criterion and kic)"));
         }
@@ -394,6 +405,9 @@ fn default_increment() -> f64 {
 }
 fn default_every() -> u64 {
     1
+}
+fn default_speed_window() -> usize {
+    crate::fracture::growth::SPEED_WINDOW
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -1058,7 +1072,7 @@ impl Scene {
             .enumerate()
             .filter_map(|(c, spec)| {
                 let g = spec.fracture.as_ref()?.growth.as_ref()?;
-                let settings = GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed };
+                let settings = GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed, speed_correction: g.speed_correction, speed_window: g.speed_window };
                 Some((c, requests[c].clone()?, settings))
             })
             .collect();

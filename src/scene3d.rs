@@ -251,7 +251,7 @@ pub struct FractureSpec3 {
     #[serde(default = "default_cod_behind")]
     pub cod_behind: f64,
     /// Let the front grow (001 §2.3.2; [`crate::fracture::growth3`]): the 2D table
-    /// `{ increment, every, max_speed }`. Omitted: the crack is stationary.
+    /// `{ increment, every, max_speed, speed_correction, speed_window }`. Omitted: the crack is stationary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub growth: Option<crate::scene::GrowthSpec>,
 }
@@ -926,7 +926,7 @@ impl Scene3 {
             .enumerate()
             .filter_map(|(c, spec)| {
                 let g = spec.fracture.as_ref()?.growth.as_ref()?;
-                let settings = crate::fracture::growth::GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed };
+                let settings = crate::fracture::growth::GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed, speed_correction: g.speed_correction, speed_window: g.speed_window };
                 Some((c, requests[c].clone()?, settings))
             })
             .collect();

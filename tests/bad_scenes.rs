@@ -329,6 +329,11 @@ fn crack_growth_settings_and_toughness() {
     assert_eq!(invalid_field(&with_toughness("increment = 1.5")), "cracks[0].fracture.growth.increment");
     assert_eq!(invalid_field(&with_toughness("every = 0")), "cracks[0].fracture.growth.every");
     assert_eq!(invalid_field(&with_toughness("max_speed = -1.0")), "cracks[0].fracture.growth.max_speed");
+    assert_eq!(invalid_field(&with_toughness("speed_window = 0")), "cracks[0].fracture.growth.speed_window");
+    // speed_correction is a bool, speed_window a whole number: parse errors naming them
+    expect(&with_toughness("speed_correction = 1"), &["speed_correction"]);
+    expect(&with_toughness("speed_window = 2.5"), &["speed_window"]);
+    assert!(Scene::from_toml(&with_toughness("speed_correction = true, speed_window = 2"), "ok").unwrap().build().is_ok());
     let bad_kic = with_toughness("").replace("kic = 1.0", "kic = -2.0");
     assert_eq!(invalid_field(&bad_kic), "materials[0].toughness.kic");
     // a toughness without its criterion, or an unknown criterion, is a parse error naming it
@@ -459,6 +464,7 @@ fn bad_scenes() -> Vec<Bad> {
         ),
         bad("growth increment NaN", growing("increment = nan"), "cracks[0].fracture.growth.increment", "(0, 1]"),
         bad("growth max_speed infinite", growing("max_speed = inf"), "cracks[0].fracture.growth.max_speed", "finite"),
+        bad("growth speed_window zero", growing("speed_window = 0"), "cracks[0].fracture.growth.speed_window", "at least 1"),
         bad("probe end NaN", format!("{BASE}\n[[probes]]\nname = \"p\"\nfrom = [0.1, 0.1]\nto = [nan, 0.5]\npoints = 5\n"), "probes[0].to[0]", "finite"),
     ]
 }

@@ -20,10 +20,11 @@
 //! the run records the time it split and goes on, the crack's contact law acting
 //! between the pieces.
 //!
-//! Crack speed (used in the K partition factors, Guo & Nairn 2004 eqs. 14–15) is
-//! estimated from the tip's growth history: the advance over the last
-//! [`SPEED_WINDOW`] increments divided by the time since the first of them, so a tip that
-//! stops slows down in the estimate.
+//! Crack speed (in the Rayleigh limit above, and in the K partition factors of Guo &
+//! Nairn 2004 eqs. 14–15 when `speed_correction` asks for them; the papers' runs use
+//! their slow limit, 001 §3.1) is estimated from the tip's growth history: the advance
+//! over the last `speed_window` increments (default [`SPEED_WINDOW`]) divided by the
+//! time since the first of them, so a tip that stops slows down in the estimate.
 
 use crate::crack::geometry::{segment_intersection, Extent};
 use crate::dim::Vector;
@@ -34,7 +35,8 @@ use crate::fracture::speed::rayleigh_speed_for;
 use crate::simulation::Simulation;
 use serde::{Deserialize, Serialize};
 
-/// Number of past increments the crack-speed estimate spans.
+/// Number of past increments the crack-speed estimate spans by default (scene
+/// `growth.speed_window`).
 pub const SPEED_WINDOW: usize = 4;
 
 /// Relative nodal volume at the material boundary (a straight edge: particles on one side).
@@ -107,6 +109,25 @@ pub struct GrowthSettings {
     pub every: u64,
     /// Upper limit on the tip speed, if any.
     pub max_speed: Option<f64>,
+    /// Whether K_I, K_II are split from J with the crack-speed factors of the tip's speed
+    /// estimate (001 eqs. 14–17) or, as in the papers' runs (001 §3.1: "these
+    /// simulations did not implement that adjustment"), with their slow limit
+    /// A_I = A_II = (κ + 1)/4, β = 1 (default false).
+    pub speed_correction: bool,
+    /// Number of past increments the tip-speed estimate spans (default [`SPEED_WINDOW`]).
+    pub speed_window: usize,
+}
+
+impl GrowthSettings {
+    /// The crack speed the K partition takes for a tip whose speed estimate is `speed`:
+    /// the estimate with `speed_correction`, 0 (the slow limit) without.
+    pub fn k_speed(&self, speed: f64) -> f64 {
+        if self.speed_correction {
+            speed
+        } else {
+            0.0
+        }
+    }
 }
 
 /// Whether a tip can still grow.
@@ -145,28 +166,28 @@ impl TipGrowth {
         TipGrowth { end, status: TipStatus::Growing, advance: 0.0, events: Vec::new() }
     }
 
-    /// Tip-speed estimate at time `t`: the advance over the last [`SPEED_WINDOW`]
-    /// increments over the time since the first of them (0 before the second increment).
-    pub fn speed(&self, t: f64) -> f64 {
-        self.speed_with(t, None)
+    /// Tip-speed estimate at time `t`: the advance over the last `window` increments
+    /// over the time since the first of them (0 before the second increment).
+    pub fn speed(&self, t: f64, window: usize) -> f64 {
+        self.speed_with(t, None, window)
     }
 
     /// The estimate if an increment of length `da` were added at `t`.
-    fn speed_with(&self, t: f64, da: Option<f64>) -> f64 {
-        speed_estimate(&self.events, self.advance, t, da)
+    fn speed_with(&self, t: f64, da: Option<f64>, window: usize) -> f64 {
+        speed_estimate(&self.events, self.advance, t, da, window)
     }
 }
 
 /// The speed estimate of a growing tip or front node at time `t` from its increments
 /// `events` ((time, advance after it)) and total `advance`, as if an increment of length
-/// `da` were added at `t` when given: the advance over the last [`SPEED_WINDOW`]
+/// `da` were added at `t` when given: the advance over the last `window` (≥ 1)
 /// increments over the time since the first of them (0 before the second increment).
-pub fn speed_estimate(events: &[(f64, f64)], advance: f64, t: f64, da: Option<f64>) -> f64 {
+pub fn speed_estimate(events: &[(f64, f64)], advance: f64, t: f64, da: Option<f64>, window: usize) -> f64 {
     let n = events.len() + da.is_some() as usize;
     if n < 2 {
         return 0.0;
     }
-    let first = n.saturating_sub(SPEED_WINDOW + 1).min(events.len() - 1);
+    let first = n.saturating_sub(window.max(1) + 1).min(events.len() - 1);
     let (t0, a0) = events[first];
     let a = advance + da.unwrap_or(0.0);
     if t > t0 {
@@ -179,9 +200,9 @@ pub fn speed_estimate(events: &[(f64, f64)], advance: f64, t: f64, da: Option<f6
 /// May an increment of length `da` be made at time `t`? The speed estimate with it must
 /// stay below the Rayleigh speed `c_r` (the energy flux into a tip vanishes there, Freund
 /// 1990 §5.3), and, with `max_speed`, `da` may not take less time than `da / max_speed`
-/// since the last increment.
-pub fn speed_allows(events: &[(f64, f64)], advance: f64, t: f64, da: f64, c_r: f64, max_speed: Option<f64>) -> bool {
-    let new_speed = speed_estimate(events, advance, t, Some(da));
+/// since the last increment. `window` as in [`speed_estimate`].
+pub fn speed_allows(events: &[(f64, f64)], advance: f64, t: f64, da: f64, c_r: f64, max_speed: Option<f64>, window: usize) -> bool {
+    let new_speed = speed_estimate(events, advance, t, Some(da), window);
     let since_last = events.last().map_or(f64::INFINITY, |e| t - e.0);
     new_speed < c_r && max_speed.is_none_or(|vmax| da <= vmax * since_last)
 }
@@ -213,7 +234,8 @@ pub struct GrowthRecord {
     pub fracture: TipResult,
     /// Tracked crack length after this evaluation.
     pub length: f64,
-    /// Tip-speed estimate used in the K partition.
+    /// Tip-speed estimate before this check (in the Rayleigh limit; in the K partition
+    /// only with `speed_correction`).
     pub speed: f64,
     /// θ_c of the tip's material criterion, radians from the crack direction, counter-
     /// clockwise (toward the upper face); NaN for a material without a toughness.
@@ -321,9 +343,15 @@ impl Growth {
         self.cracks
             .iter()
             .filter(|g| g.crack == c)
-            .flat_map(|g| g.tips.iter())
-            .find(|tip| tip.end == end)
-            .map_or(0.0, |tip| tip.speed(t))
+            .flat_map(|g| g.tips.iter().map(move |tip| (tip, g.settings.speed_window)))
+            .find(|(tip, _)| tip.end == end)
+            .map_or(0.0, |(tip, w)| tip.speed(t, w))
+    }
+
+    /// The crack speed the K partition of tip `end` of crack `c` takes at `t`
+    /// ([`GrowthSettings::k_speed`] of its speed estimate; 0 if it does not grow).
+    pub fn tip_k_speed(&self, c: usize, end: TipEnd, t: f64) -> f64 {
+        self.cracks.iter().find(|g| g.crack == c).map_or(0.0, |g| g.settings.k_speed(self.tip_speed(c, end, t)))
     }
 }
 
@@ -362,11 +390,11 @@ impl Simulation {
             let c = cg.crack;
             for k in 0..cg.tips.len() {
                 let end = cg.tips[k].end;
-                let speed = cg.tips[k].speed(self.time);
+                let speed = cg.tips[k].speed(self.time, cg.settings.speed_window);
                 // A contour that no longer fits (near the grid's edge) or that the crack
                 // crosses more than once (a curved crack near its tip) gives no J: the tip
                 // does not grow at this evaluation, and the row says why.
-                let fr = match self.tip_fracture_request(c, end, &cg.request, speed) {
+                let fr = match self.tip_fracture_request(c, end, &cg.request, cg.settings.k_speed(speed)) {
                     Ok(fr) => fr,
                     Err(e @ (FractureError::ContourOutsideGrid { .. } | FractureError::Crossings { .. })) => {
                         let tip = self.tip_of(c, end);
@@ -388,7 +416,7 @@ impl Simulation {
                     let da = cg.settings.increment * h;
                     let c_r = rayleigh_speed_for(&self.materials[mat]).map_err(|e| GrowthError::Rayleigh { crack: c, end, message: e.to_string() })?;
                     let tip = &cg.tips[k];
-                    if speed_allows(&tip.events, tip.advance, self.time, da, c_r, cg.settings.max_speed) {
+                    if speed_allows(&tip.events, tip.advance, self.time, da, c_r, cg.settings.max_speed, cg.settings.speed_window) {
                         let (e1, e2) = (fr.direction, Vector::new(-fr.direction.y, fr.direction.x));
                         let heading = e1 * theta.cos() + e2 * theta.sin();
                         let (added, status) = self.extend_crack(c, end, mat, fr.tip, fr.tip + heading * da);
@@ -549,16 +577,27 @@ mod tests {
     #[test]
     fn speed_estimate_spans_the_window_and_decays_when_the_tip_stops() {
         let mut t = TipGrowth::new(TipEnd::End);
-        assert_eq!(t.speed(1.0), 0.0);
+        let w = SPEED_WINDOW;
+        assert_eq!(t.speed(1.0, w), 0.0);
         for k in 1..=6 {
             t.advance += 0.5;
             t.events.push((k as f64, t.advance));
         }
         // events at t = 1..6, 0.5 each: the window spans the last 4 increments → from t = 2.
-        assert_eq!(t.speed(6.0), 2.0 / 4.0);
-        assert_eq!(t.speed(10.0), 2.0 / 8.0);
+        assert_eq!(t.speed(6.0, w), 2.0 / 4.0);
+        assert_eq!(t.speed(10.0, w), 2.0 / 8.0);
+        // a window of one increment: the last one, from t = 5
+        assert_eq!(t.speed(6.0, 1), 0.5 / 1.0);
         // one more increment at t = 7 would give (3.5 − 1.5)/(7 − 3)
-        assert_eq!(t.speed_with(7.0, Some(0.5)), 2.0 / 4.0);
+        assert_eq!(t.speed_with(7.0, Some(0.5), w), 2.0 / 4.0);
+    }
+
+    #[test]
+    fn k_speed_is_the_estimate_only_with_speed_correction() {
+        let mut g = GrowthSettings { increment: 0.5, every: 1, max_speed: None, speed_correction: false, speed_window: SPEED_WINDOW };
+        assert_eq!(g.k_speed(123.0), 0.0);
+        g.speed_correction = true;
+        assert_eq!(g.k_speed(123.0), 123.0);
     }
 
     #[test]

@@ -285,11 +285,11 @@ impl Simulation<D3> {
             for fr in &results {
                 let v = fr.node;
                 let node = &fg.nodes[&v];
-                let speed = speed_estimate(&node.events, node.advance, self.time, None);
+                let speed = speed_estimate(&node.events, node.advance, self.time, None, fg.settings.speed_window);
                 let err = |message: String| GrowthError::Front { crack: c, node: v, x: fr.x.x, y: fr.x.y, z: fr.x.z, message };
                 let mat = self.material_index_near3(&fr.x).ok_or_else(|| err("no material particle to take the toughness from".into()))?;
                 let m = &self.materials[mat];
-                let sf = speed_factors_for(m, speed).map_err(|e| err(format!("crack-speed factors: {e}")))?;
+                let sf = speed_factors_for(m, fg.settings.k_speed(speed)).map_err(|e| err(format!("crack-speed factors: {e}")))?;
                 let k = if fr.delta.iter().all(|d| d.is_finite()) && fr.j1.is_finite() { partition_k3_moving(fr.j1, fr.delta, m.shear_modulus(), &sf) } else { [f64::NAN; 3] };
                 let toughness = growth.toughness[mat];
                 let dir = toughness.and_then(|t| t.direction(k[0], k[1], m.kappa()));
@@ -299,7 +299,7 @@ impl Simulation<D3> {
                 let mut status = node.status;
                 if status == NodeStatus::Growing && meets {
                     let c_r = rayleigh_speed_for(m).map_err(|e| err(format!("Rayleigh speed: {e}")))?;
-                    if speed_allows(&node.events, node.advance, self.time, da, c_r, fg.settings.max_speed) {
+                    if speed_allows(&node.events, node.advance, self.time, da, c_r, fg.settings.max_speed, fg.settings.speed_window) {
                         let planes = self.symmetry_planes(&fr.x);
                         let on_plane = planes.iter().any(|&(a, p)| p == fr.x[a]);
                         let b = boundary.get_or_insert_with(|| self.material_boundary3());

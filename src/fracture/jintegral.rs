@@ -543,13 +543,14 @@ impl Simulation {
     }
 
     /// Fracture parameters at every requested tip (`requests[c]` for crack c), with each
-    /// growing tip's current speed estimate (0 for a stationary crack).
+    /// growing tip's current speed estimate in the K partition when its crack's
+    /// `speed_correction` asks for it (0 otherwise, and for a stationary crack).
     pub fn fracture_parameters(&self, requests: &[Option<JRequest>]) -> Result<Vec<TipResult>, FractureError> {
         let mut out = Vec::new();
         for (c, r) in requests.iter().enumerate() {
             if let Some(r) = r {
                 for &end in &r.tips {
-                    let speed = self.growth.as_ref().map_or(0.0, |g| g.tip_speed(c, end, self.time));
+                    let speed = self.growth.as_ref().map_or(0.0, |g| g.tip_k_speed(c, end, self.time));
                     let grows = self.growth.as_ref().is_some_and(|g| g.grows(c));
                     match self.tip_fracture_request(c, end, r, speed) {
                         Ok(t) => out.push(t),

@@ -6,6 +6,9 @@
 //!   at mid-span, plane strain, two-term J. The crack must grow straight up (the scene
 //!   is mirror symmetric) and the crack length versus time must converge with the cell
 //!   size (the paper: "nearly identical" curves for 4, 2 and 1 mm cells).
+//! * `pmma_tpb_choices` (full suite; issue 20 item 3): the same beam at 2 mm with each
+//!   modelling choice that could move a(t) ([`TPB_CHOICES`]) side by side, and against
+//!   NairnMPM's run of the scene ([`NAIRNMPM_TPB_2MM`]); docs/verification.md.
 //! * `pmma_tpb_offcentre`: the same beam struck at e/l = 0.1 (001 §3.2): the crack turns
 //!   toward the impact point, and the paths of the two criteria at 210 µs agree within
 //!   a few mm, as the paper finds.
@@ -29,7 +32,7 @@ use crate::fracture::growth::GrowthRecord;
 use crate::fracture::jintegral::TipEnd;
 use crate::fracture::criteria::hoop_stress_angle;
 use crate::output::{run_scene, RunOptions, RunResult};
-use crate::report::plot::{PlotSpec, Series};
+use crate::report::plot::{LegendPosition, PlotSpec, Series};
 use crate::scene::Scene;
 use crate::verify::cases::fracture::{a_of, ARM, CHI, E_BEAM};
 use crate::verify::scene_file::SceneFile;
@@ -161,7 +164,100 @@ pub fn path_shape_difference(a: &[(f64, f64)], b: &[(f64, f64)]) -> (f64, f64) {
     (path_distance(&a, &b).max(path_distance(&b, &a)), (la - lb).abs())
 }
 
-/// Case `pmma_tpb`: self-similar growth; quick 4 and 2 mm, full 4, 2 and 1 mm.
+/// NairnMPM's crack depth a (mm) against time (µs) for `pmma_tpb` at h = 2 mm (NairnMPM
+/// 19.0, commit 7f47b022, the authors' code, run on inputs written to match the scene:
+/// minimum strain energy, two-term J on a 2×2 contour, growth checked every step by half a
+/// cell, frictionless faces, same time step): `../shared/peer/nairnmpm-2026-12-01.md`,
+/// "PMMA three-point bend with crack growth", sampled every 10 µs from 140 µs.
+pub const NAIRNMPM_TPB_2MM: [(f64, f64); 18] = [
+    (0.0, 50.0),
+    (140.0, 50.0),
+    (150.0, 52.0),
+    (160.0, 53.0),
+    (170.0, 53.0),
+    (180.0, 53.0),
+    (190.0, 53.0),
+    (200.0, 53.0),
+    (210.0, 54.0),
+    (220.0, 54.0),
+    (230.0, 54.0),
+    (240.0, 54.0),
+    (250.0, 54.0),
+    (260.0, 58.0),
+    (270.0, 62.0),
+    (280.0, 66.0),
+    (290.0, 69.0),
+    (300.0, 72.0),
+];
+
+/// NairnMPM's initiation time for `pmma_tpb` at 2 mm (µs; same source as
+/// [`NAIRNMPM_TPB_2MM`]).
+pub const NAIRNMPM_TPB_INITIATION: f64 = 143.1;
+
+/// The modelling choices of `pmma_tpb` run side by side at 2 mm (issue 20 item 3): a
+/// label, the overrides on top of [`three_point_bend`], and whether the choice leaves the
+/// mechanics unchanged (held by check `numerical_choices` against the default run).
+pub struct TpbChoice {
+    pub label: &'static str,
+    pub overrides: &'static [(&'static str, &'static str)],
+    pub held: bool,
+    /// The variant with NairnMPM's settings (held to NairnMPM's a(t) by `nairnmpm_growth`).
+    pub nairnmpm: bool,
+    /// Drawn in figure pmma_tpb_choices (the others lie on a drawn line; notes).
+    pub plotted: bool,
+}
+
+/// The variants of case `pmma_tpb_choices`.
+pub const TPB_CHOICES: &[TpbChoice] = &[
+    // The former default: K split with the crack-speed factors of the tip's speed estimate.
+    TpbChoice { label: "speed_correction = true", overrides: &[("cracks.0.fracture.growth.speed_correction", "true")], held: true, nairnmpm: false, plotted: true },
+    TpbChoice {
+        label: "speed_correction, speed_window = 1",
+        overrides: &[("cracks.0.fracture.growth.speed_correction", "true"), ("cracks.0.fracture.growth.speed_window", "1")],
+        held: true,
+        nairnmpm: false,
+        plotted: false,
+    },
+    TpbChoice {
+        label: "speed_correction, speed_window = 8",
+        overrides: &[("cracks.0.fracture.growth.speed_correction", "true"), ("cracks.0.fracture.growth.speed_window", "8")],
+        held: true,
+        nairnmpm: false,
+        plotted: false,
+    },
+    TpbChoice { label: "every = 2", overrides: &[("cracks.0.fracture.growth.every", "2")], held: true, nairnmpm: false, plotted: false },
+    TpbChoice { label: "every = 5", overrides: &[("cracks.0.fracture.growth.every", "5")], held: true, nairnmpm: false, plotted: true },
+    // Checking every 10 steps (5.5 µs) lets the tip move at most h/2 per 5.5 µs = 182 m/s,
+    // below the speeds reached: the cadence then limits the speed (reported, not held).
+    TpbChoice { label: "every = 10", overrides: &[("cracks.0.fracture.growth.every", "10")], held: false, nairnmpm: false, plotted: true },
+    // The drop weight meets the beam through a frictionless interface (a second crack along
+    // y = 100 between them) instead of sharing its velocity field: it may slide and separate.
+    TpbChoice {
+        label: "impactor on a frictionless interface",
+        overrides: &[("cracks.1.points", "[[-14.0, 100.0], [14.0, 100.0]]"), ("cracks.1.contact", "\"frictionless\"")],
+        held: true,
+        nairnmpm: false,
+        plotted: true,
+    },
+    TpbChoice { label: "contact = stick", overrides: &[("cracks.0.contact", "\"stick\"")], held: false, nairnmpm: false, plotted: false },
+    TpbChoice { label: "one-term J (area_term = false)", overrides: &[("cracks.0.fracture.area_term", "false")], held: false, nairnmpm: false, plotted: true },
+    TpbChoice { label: "contact = none", overrides: &[("cracks.0.contact", "\"none\"")], held: false, nairnmpm: false, plotted: true },
+    // NairnMPM's settings: its crack contact is detected from the separation of the two
+    // fields (CrackSurfaceContact::MaterialSeparation), not from the nodal volume, and its
+    // K partition takes crack speed 0 (CalcJKTask) — this cramp's default now.
+    TpbChoice { label: "detection = opening (NairnMPM's settings)", overrides: &[("cracks.0.detection", "\"opening\"")], held: false, nairnmpm: true, plotted: true },
+];
+
+/// Energy created over a run: the largest rise of the total energy (kinetic + strain +
+/// damping − external work) above its initial value.
+fn energy_created(r: &RunResult) -> f64 {
+    let e0 = r.history.first().map_or(f64::NAN, |h| h.total);
+    r.history.iter().map(|h| h.total - e0).fold(0.0, f64::max)
+}
+
+/// Case `pmma_tpb`: self-similar growth; quick 4 and 2 mm, full 4, 2 and 1 mm. The 2 mm
+/// run's initiation is compared with NairnMPM's, its a(t) plotted with NairnMPM's
+/// ([`NAIRNMPM_TPB_2MM`]); the modelling choices are case `pmma_tpb_choices`.
 pub fn run_tpb(variant: Variant) -> anyhow::Result<CaseOutput> {
     let sizes: &[f64] = match variant {
         Variant::Quick => &[4.0, 2.0],
@@ -170,21 +266,31 @@ pub fn run_tpb(variant: Variant) -> anyhow::Result<CaseOutput> {
     let end = 0.3;
     let mut out = CaseOutput::default();
     let mut curves: Vec<(f64, Vec<(f64, f64)>)> = Vec::new();
+    let peer: Vec<(f64, f64)> = NAIRNMPM_TPB_2MM.to_vec();
     for &h in sizes {
         let (r, wall) = run_growth_file(&three_point_bend(h, 0.0, "min_strain_energy", end), false)?;
         let recs = records(&r, TipEnd::End);
         let drift = recs.iter().map(|x| x.fracture.tip.x.abs()).fold(0.0, f64::max);
         let hist = depth_history(&recs);
         let a_end = hist.last().map_or(f64::NAN, |p| p.1);
+        let init = initiation(&recs).unwrap_or(f64::NAN);
         out.measure("straight_path", &format!("h = {h} mm"), drift, 0.0);
         out.measure("crack_growth", &format!("h = {h} mm"), a_end - 50.0, 0.0);
         out.note(format!(
-            "h = {h} mm: initiation at {:.1} µs, a = {a_end:.1} mm at {:.0} µs, largest |x_tip| {drift:.1e} mm; {} particles, {} steps, {wall:.1} s wall (unchecked; the paper: 2 s at 4 mm to 90 s at 1 mm on 12 cores)",
-            initiation(&recs).unwrap_or(f64::NAN),
+            "h = {h} mm: initiation at {init:.1} µs, a = {a_end:.1} mm at {:.0} µs, largest |x_tip| {drift:.1e} mm, energy created {:.0} mJ (the volume contact detection on the growing crack, docs/verification.md); {} particles, {} steps, {wall:.1} s wall (unchecked; the paper: 2 s at 4 mm to 90 s at 1 mm on 12 cores)",
             1e3 * end,
+            energy_created(&r),
             r.sim.particles.len(),
             r.sim.step_count
         ));
+        if h == 2.0 {
+            out.measure("nairnmpm_initiation", "h = 2 mm", init, NAIRNMPM_TPB_INITIATION);
+            let d = mean_difference(&hist, &peer, 1e3 * end);
+            out.note(format!(
+                "h = 2 mm against NairnMPM's a(t): mean |Δa| {d:.2} mm = {:.2} increments h/2 over 0–300 µs (not held here; case pmma_tpb_choices compares the variant with NairnMPM's settings)",
+                d / (0.5 * h)
+            ));
+        }
         curves.push((h, hist));
     }
     for w in curves.windows(2) {
@@ -192,11 +298,80 @@ pub fn run_tpb(variant: Variant) -> anyhow::Result<CaseOutput> {
         // Reported in units of the coarser grid's growth increment h/2.
         out.measure("convergence", &format!("{hc} vs {hf} mm"), mean_difference(a, b, 1e3 * end) / (0.5 * hc), 0.0);
     }
+    let mut series: Vec<Series> = curves.into_iter().map(|(h, c)| Series::line(&format!("h = {h} mm"), c)).collect();
+    series.push(Series::reference("NairnMPM, h = 2 mm (peer run 2026-12-01)", peer).with_markers());
     out.figure(
         "pmma_tpb_length.png",
-        "Impacted PMMA three-point bend (001 §3.1): crack depth a versus time per cell size (minimum strain-energy criterion)",
+        "Impacted PMMA three-point bend (001 §3.1): crack depth a versus time per cell size (minimum strain-energy criterion), with NairnMPM's run of the same scene at 2 mm (../shared/peer/nairnmpm-2026-12-01.md)",
         PlotSpec::new("PMMA 3-point bend: crack depth versus time", "time (µs)", "crack depth a (mm)"),
-        Plot::Lines(curves.into_iter().map(|(h, c)| Series::line(&format!("h = {h} mm"), c)).collect()),
+        Plot::Lines(series),
+    );
+    Ok(out)
+}
+
+/// Case `pmma_tpb_choices` (full suite only; issue 20 item 3): the beam of `pmma_tpb` at
+/// 2 mm with its default settings and with each modelling choice of [`TPB_CHOICES`], side
+/// by side; the choices that leave the mechanics unchanged are held to the default, and
+/// the variant with NairnMPM's settings to NairnMPM's a(t) (FAILS: module doc of the case
+/// in cases.toml).
+pub fn run_tpb_choices(_variant: Variant) -> anyhow::Result<CaseOutput> {
+    let (h, end) = (2.0, 0.3);
+    let mut out = CaseOutput::default();
+    let peer: Vec<(f64, f64)> = NAIRNMPM_TPB_2MM.to_vec();
+    let (r, wall) = run_growth_file(&three_point_bend(h, 0.0, "min_strain_energy", end), false)?;
+    let recs = records(&r, TipEnd::End);
+    let base = depth_history(&recs);
+    out.note(format!(
+        "h = {h} mm, default: initiation {:.1} µs, a = {:.1} mm at 300 µs, largest speed estimate {:.0} m/s, energy created {:.0} mJ; mean |Δa| against NairnMPM {:.2} increments h/2; {wall:.1} s wall",
+        initiation(&recs).unwrap_or(f64::NAN),
+        base.last().map_or(f64::NAN, |p| p.1),
+        recs.iter().map(|x| x.speed).fold(0.0, f64::max),
+        energy_created(&r),
+        mean_difference(&base, &peer, 1e3 * end) / (0.5 * h)
+    ));
+    let mut series: Vec<Series> = vec![Series::line("default", base.clone())];
+    for c in TPB_CHOICES {
+        let mut file = three_point_bend(h, 0.0, "min_strain_energy", end);
+        for (path, value) in c.overrides {
+            file = file.set(path, *value);
+        }
+        let (r, wall) = run_growth_file(&file, false)?;
+        let recs = records(&r, TipEnd::End);
+        let hist = depth_history(&recs);
+        let init = initiation(&recs).unwrap_or(f64::NAN);
+        let vs_default = mean_difference(&hist, &base, 1e3 * end) / (0.5 * h);
+        let vs_peer = mean_difference(&hist, &peer, 1e3 * end) / (0.5 * h);
+        if c.held {
+            out.measure("numerical_choices", &format!("h = {h} mm, {}", c.label), vs_default, 0.0);
+        }
+        if c.nairnmpm {
+            out.measure("nairnmpm_growth", &format!("h = {h} mm, {}", c.label), vs_peer, 0.0);
+        }
+        out.note(format!(
+            "h = {h} mm, {}: initiation {init:.1} µs, a = {:.1} mm at 300 µs, largest speed estimate {:.0} m/s, energy created {:.0} mJ; mean |Δa| against the default {vs_default:.2}, against NairnMPM {vs_peer:.2} increments h/2{}; {wall:.1} s wall",
+            c.label,
+            hist.last().map_or(f64::NAN, |p| p.1),
+            recs.iter().map(|x| x.speed).fold(0.0, f64::max),
+            energy_created(&r),
+            if c.held { " (held to the default)" } else { "" }
+        ));
+        // The speed windows lie on speed_correction = true, every = 2 and stick on the
+        // default (notes): left out of the figure so that its lines keep the palette's
+        // eight colours.
+        if c.plotted {
+            series.push(Series::line(c.label, hist));
+        }
+    }
+    series.push(Series::reference("NairnMPM (peer run 2026-12-01)", peer).with_markers());
+    out.figure(
+        "pmma_tpb_choices.png",
+        "PMMA three-point bend at h = 2 mm: crack depth versus time for each modelling choice (growth.speed_correction, every; the impactor's interface; contact law and detection; one- or two-term J; the speed windows 1 and 8 lie on speed_correction = true, every = 2 and contact = stick on the default: notes) and NairnMPM's run (../shared/peer/nairnmpm-2026-12-01.md)",
+        PlotSpec::new("PMMA 3-point bend, 2 mm: crack depth per modelling choice", "time (µs)", "crack depth a (mm)")
+            .with_size(1100, 750)
+            .with_x_range(100.0, 300.0)
+            .with_y_range(48.0, 90.0)
+            .with_legend(LegendPosition::UpperLeft),
+        Plot::Lines(series),
     );
     Ok(out)
 }

@@ -50,6 +50,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "dcb_k", run: fracture::run_dcb },
     Case { name: "split_beams_k", run: fracture::run_split_beams },
     Case { name: "pmma_tpb", run: growth::run_tpb },
+    Case { name: "pmma_tpb_choices", run: growth::run_tpb_choices },
     Case { name: "pmma_tpb_offcentre", run: growth::run_offcentre },
     Case { name: "mode_ii_kink", run: growth::run_mode_ii },
     Case { name: "dcb_growth", run: growth::run_dcb_growth },
