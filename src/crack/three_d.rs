@@ -306,6 +306,8 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
 struct CellCache {
     key: Option<(usize, Vector3, Vector3)>,
     nodes: Vec<u32>,
+    /// Scratch: the indices of the triangles near B, sorted.
+    ts: Vec<u32>,
     near: Vec<NearTriangle>,
     /// The nodes in the plane of some one-sided triangle (the others skip that scan).
     zero_one_sided: u32,
@@ -345,10 +347,11 @@ impl CellCache {
         self.nodes.clear();
         self.nodes.extend_from_slice(nodes);
         self.near.clear();
-        index.near(lo, hi, |t| {
-            self.near.push(NearTriangle { t: t as u32, padded: index.padded_box(t), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0 })
-        });
-        self.near.sort_unstable_by_key(|e| e.t);
+        let ts = &mut self.ts;
+        ts.clear();
+        index.near(lo, hi, |t| ts.push(t as u32));
+        ts.sort_unstable();
+        self.near.extend(ts.iter().map(|&t| NearTriangle { t, padded: index.padded_box(t as usize), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0 }));
         self.zero_one_sided = 0;
         for e in self.near.iter_mut() {
             let tri = view.triangles[e.t as usize];
