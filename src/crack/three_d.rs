@@ -241,23 +241,43 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some() });
                     }
                 }
+                // Each candidate's verdicts for the nodes on its other side whose segment
+                // from the particle meets its padded box (per axis from the box's distinct
+                // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
+                // exactly), accumulated per node (the verdict does not depend on the order).
+                let pending = (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k);
+                let mut accs = [Crossing3::default(); STRIDE];
+                for q in &candidates {
+                    let mut m = q.other & pending;
+                    for (a, vals) in cache.coords.iter().enumerate() {
+                        if m == 0 {
+                            break;
+                        }
+                        let (l, h) = (q.padded[0][a], q.padded[1][a]);
+                        m &= vals.iter().filter(|&&(v, _)| !(xp[a].max(v) < l || xp[a].min(v) > h)).fold(0, |acc, &(_, b)| acc | b);
+                    }
+                    while m != 0 {
+                        let k = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let xn = &xn[k];
+                        let seg = [xp.inf(xn), xp.sup(xn)];
+                        if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
+                            if q.sides_known {
+                                let bit = 1u32 << k;
+                                let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
+                                accs[k].add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
+                            } else {
+                                accs[k].add_with_side(&view, q.t as usize, &xp, xn, q.op);
+                            }
+                        }
+                    }
+                }
                 for (k, xn) in xn.iter().enumerate() {
                     if field[k] != 0 {
                         continue;
                     }
                     let bit = 1u32 << k;
-                    let seg = [xp.inf(xn), xp.sup(xn)];
-                    let mut acc = Crossing3::default();
-                    for q in candidates.iter().filter(|q| q.other & bit != 0) {
-                        if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
-                            if q.sides_known {
-                                let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
-                                acc.add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
-                            } else {
-                                acc.add_with_side(&view, q.t as usize, &xp, xn, q.op);
-                            }
-                        }
-                    }
+                    let acc = &mut accs[k];
                     // One-sided triangles, in increasing index: the first that holds the
                     // node in its plane and closed area, with the particle off its plane.
                     let scan = if cache.zero_one_sided & bit != 0 { cache.near.len() } else { 0 };
@@ -308,6 +328,9 @@ struct CellCache {
     nodes: Vec<u32>,
     /// Scratch: the indices of the triangles near B, sorted.
     ts: Vec<u32>,
+    /// Per axis, the distinct coordinates of the nodes, each with the nodes (bits) that
+    /// have it (a comparison of a node's coordinate is made once per value).
+    coords: [Vec<(f64, u32)>; 3],
     near: Vec<NearTriangle>,
     /// The nodes in the plane of some one-sided triangle (the others skip that scan).
     zero_one_sided: u32,
@@ -346,6 +369,16 @@ impl CellCache {
         self.key = Some((c, *lo, *hi));
         self.nodes.clear();
         self.nodes.extend_from_slice(nodes);
+        // The distinct node coordinates per axis, each with the nodes that have it.
+        for (a, vals) in self.coords.iter_mut().enumerate() {
+            vals.clear();
+            for (k, x) in xn.iter().enumerate() {
+                match vals.iter_mut().find(|(v, _)| *v == x[a]) {
+                    Some((_, bits)) => *bits |= 1 << k,
+                    None => vals.push((x[a], 1 << k)),
+                }
+            }
+        }
         self.near.clear();
         let ts = &mut self.ts;
         ts.clear();
@@ -373,18 +406,20 @@ impl CellCache {
             } else {
                 0
             };
-            let [pl, ph] = &e.padded;
-            for (k, x) in xn.iter().enumerate() {
-                // One-sided: only a node in the plane and in the closed triangle matters, so
-                // only nodes in its (padded) box are looked at.
-                if e.one_sided != 0 && (0..3).any(|c| x[c] < pl[c] || x[c] > ph[c]) {
-                    continue;
-                }
-                let bit = 1u32 << k;
-                match o * sign(x[a] - level) {
-                    1 => e.pos |= bit,
-                    -1 => e.neg |= bit,
-                    _ => e.zero |= bit,
+            // One-sided: only a node in the plane and in the closed triangle matters, so
+            // only nodes in its (padded) box are looked at.
+            let in_box = if e.one_sided != 0 {
+                let [pl, ph] = &e.padded;
+                (0..3).fold(u32::MAX, |m, c| m & self.coords[c].iter().filter(|&&(v, _)| !(v < pl[c] || v > ph[c])).fold(0, |acc, &(_, b)| acc | b))
+            } else {
+                u32::MAX
+            };
+            for &(v, bits) in &self.coords[a] {
+                let bits = bits & in_box;
+                match o * sign(v - level) {
+                    1 => e.pos |= bits,
+                    -1 => e.neg |= bits,
+                    _ => e.zero |= bits,
                 }
             }
             if e.one_sided != 0 {
