@@ -324,6 +324,9 @@ pub struct TriangleIndex {
     range: Vec<[[u32; 3]; 2]>,
     /// Bounding box of each triangle (exact: minima and maxima of its corners).
     aabb: Vec<[Vector3; 2]>,
+    /// Per triangle lying in an axis plane x_a = level: (a, level, sign of its normal's
+    /// a-component) ([`Self::axis_plane`]).
+    axis_plane: Vec<Option<(usize, f64, i8)>>,
     /// Bounding-volume hierarchy of the triangles for the nearest-triangle queries
     /// ([`Self::nearest`]; [`Bvh`]).
     bvh: Bvh,
@@ -549,10 +552,18 @@ impl TriangleIndex {
         self.n = n;
         self.range.clear();
         self.aabb.clear();
+        self.axis_plane.clear();
         for t in triangles {
             let (tl, th) = t.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), &i| (l.inf(&points[i as usize]), h.sup(&points[i as usize])));
             self.range.push([self.bucket_of(&tl), self.bucket_of(&th)]);
             self.aabb.push([tl, th]);
+            let v = t.map(|i| &points[i as usize]);
+            self.axis_plane.push((0..3).find(|&a| v[0][a] == v[1][a] && v[1][a] == v[2][a]).map(|a| {
+                // The sign of the normal's a-component: the side of v0 + e_a (level + 1 > level).
+                let mut up = *v[0];
+                up[a] += 1.0;
+                (a, v[0][a], side_of_plane(v[0], v[1], v[2], &up))
+            }));
         }
         let nb = n[0] * n[1] * n[2];
         let counts = &mut self.cursor;
@@ -587,6 +598,15 @@ impl TriangleIndex {
     #[inline]
     pub fn box_meets_extent(&self, lo: &Vector3, hi: &Vector3) -> bool {
         (0..3).all(|c| lo[c] <= self.hi[c] && hi[c] >= self.lo[c])
+    }
+
+    /// For triangle t lying in an axis plane x_a = level (its three corners share that
+    /// coordinate): (a, level, o) with o the exact sign of its normal's a-component, so the
+    /// exact side of any point x is o · sign(x_a − level) (the triple product reduces to
+    /// that component); None for the others.
+    #[inline]
+    pub fn axis_plane(&self, t: usize) -> Option<(usize, f64, i8)> {
+        self.axis_plane[t]
     }
 
     /// Triangle t's bounding box padded by [`PAD`] of the surface's extent: the box

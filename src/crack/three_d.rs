@@ -202,7 +202,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                     continue;
                 }
                 let view = crack.view();
-                cache.prepare(c, &lo, &hi, nodes, xn, &index[c], &view);
+                cache.prepare(c, &lo, &hi, nodes, xn, &index[c]);
                 if cache.near.is_empty() {
                     continue;
                 }
@@ -238,7 +238,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         _ => 0,
                     };
                     if other != 0 {
-                        candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some() });
+                        candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some(), ge: e.ge, le: e.le });
                     }
                 }
                 // Each candidate's verdicts for the nodes on its other side whose segment
@@ -248,13 +248,16 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                 let pending = (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k);
                 let mut accs = [Crossing3::default(); STRIDE];
                 for q in &candidates {
+                    // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
+                    // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
                     let mut m = q.other & pending;
-                    for (a, vals) in cache.coords.iter().enumerate() {
-                        if m == 0 {
-                            break;
+                    for a in 0..3 {
+                        if xp[a] < q.padded[0][a] {
+                            m &= q.ge[a];
                         }
-                        let (l, h) = (q.padded[0][a], q.padded[1][a]);
-                        m &= vals.iter().filter(|&&(v, _)| !(xp[a].max(v) < l || xp[a].min(v) > h)).fold(0, |acc, &(_, b)| acc | b);
+                        if xp[a] > q.padded[1][a] {
+                            m &= q.le[a];
+                        }
                     }
                     while m != 0 {
                         let k = m.trailing_zeros() as usize;
@@ -357,12 +360,15 @@ struct NearTriangle {
     axis: Option<(usize, f64, i8)>,
     inside_known: u32,
     inside: u32,
+    /// Per axis a, the nodes with x_a ≥ the padded box's lower bound, and ≤ its upper.
+    ge: [u32; 3],
+    le: [u32; 3],
 }
 
 impl CellCache {
     /// Make the cache hold B = [lo, hi] of crack c with these nodes.
     #[allow(clippy::too_many_arguments)]
-    fn prepare(&mut self, c: usize, lo: &Vector3, hi: &Vector3, nodes: &[u32], xn: &[Vector3], index: &TriangleIndex, view: &SurfaceView) {
+    fn prepare(&mut self, c: usize, lo: &Vector3, hi: &Vector3, nodes: &[u32], xn: &[Vector3], index: &TriangleIndex) {
         if self.key == Some((c, *lo, *hi)) && self.nodes == nodes {
             return;
         }
@@ -384,46 +390,53 @@ impl CellCache {
         ts.clear();
         index.near(lo, hi, |t| ts.push(t as u32));
         ts.sort_unstable();
-        self.near.extend(ts.iter().map(|&t| NearTriangle { t, padded: index.padded_box(t as usize), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0 }));
+        self.near.extend(ts.iter().map(|&t| NearTriangle { t, padded: index.padded_box(t as usize), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0, ge: [0; 3], le: [0; 3] }));
         self.zero_one_sided = 0;
         for e in self.near.iter_mut() {
-            let tri = view.triangles[e.t as usize];
-            let v = tri.map(|q| &view.points[q as usize]);
-            // Only a triangle in an axis plane x_a = level is classified here (exactly and
+            let [pl, ph] = &e.padded;
+            // A triangle in an axis plane x_a = level is classified here (exactly and
             // cheaply); the others take the general test.
-            let Some(a) = (0..3).find(|&a| v[0][a] == v[1][a] && v[1][a] == v[2][a]) else { continue };
-            let level = v[0][a];
-            // The sign of its normal's a-component: the side of v0 + e_a (level + 1 > level).
-            let mut up = *v[0];
-            up[a] += 1.0;
-            let o = side_of_plane(v[0], v[1], v[2], &up);
-            e.axis = Some((a, level, o));
-            // Every point x of B has the side o · sign(x_a − level).
-            e.one_sided = if lo[a] >= level && hi[a] > level {
-                o
-            } else if hi[a] <= level && lo[a] < level {
-                -o
-            } else {
-                0
-            };
-            // One-sided: only a node in the plane and in the closed triangle matters, so
-            // only nodes in its (padded) box are looked at.
-            let in_box = if e.one_sided != 0 {
-                let [pl, ph] = &e.padded;
-                (0..3).fold(u32::MAX, |m, c| m & self.coords[c].iter().filter(|&&(v, _)| !(v < pl[c] || v > ph[c])).fold(0, |acc, &(_, b)| acc | b))
-            } else {
-                u32::MAX
-            };
-            for &(v, bits) in &self.coords[a] {
-                let bits = bits & in_box;
-                match o * sign(v - level) {
-                    1 => e.pos |= bits,
-                    -1 => e.neg |= bits,
-                    _ => e.zero |= bits,
+            if let Some((a, level, o)) = index.axis_plane(e.t as usize) {
+                e.axis = Some((a, level, o));
+                // Every point x of B has the side o · sign(x_a − level).
+                e.one_sided = if lo[a] >= level && hi[a] > level {
+                    o
+                } else if hi[a] <= level && lo[a] < level {
+                    -o
+                } else {
+                    0
+                };
+                if e.one_sided != 0 {
+                    // Only a node in the plane and in the closed triangle matters (its `zero`
+                    // bit; `pos` and `neg` are not read), so only the nodes in the plane and
+                    // in the padded box are kept.
+                    let in_plane = self.coords[a].iter().filter(|&&(x, _)| sign(x - level) == 0).fold(0, |m, &(_, b)| m | b);
+                    if in_plane != 0 {
+                        let in_box = (0..3).fold(u32::MAX, |m, c| m & self.coords[c].iter().filter(|&&(x, _)| x >= pl[c] && x <= ph[c]).fold(0, |m, &(_, b)| m | b));
+                        e.zero = in_plane & in_box;
+                        self.zero_one_sided |= e.zero;
+                    }
+                    continue;
+                }
+                for &(x, bits) in &self.coords[a] {
+                    match o * sign(x - level) {
+                        1 => e.pos |= bits,
+                        -1 => e.neg |= bits,
+                        _ => e.zero |= bits,
+                    }
                 }
             }
-            if e.one_sided != 0 {
-                self.zero_one_sided |= e.zero;
+            // A two-sided triangle: per axis, the nodes at or above the padded box's lower
+            // bound and at or below its upper (for the candidates' segment-box test).
+            for (c, vals) in self.coords.iter().enumerate() {
+                for &(x, bits) in vals {
+                    if x >= pl[c] {
+                        e.ge[c] |= bits;
+                    }
+                    if x <= ph[c] {
+                        e.le[c] |= bits;
+                    }
+                }
             }
         }
     }
@@ -447,6 +460,9 @@ struct Candidate {
     zero: u32,
     /// Whether `pos` and `zero` hold the nodes' sides (axis-plane triangles).
     sides_known: bool,
+    /// As in [`NearTriangle`].
+    ge: [u32; 3],
+    le: [u32; 3],
 }
 
 fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> CheckError {
@@ -541,55 +557,78 @@ fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Op
 /// (eq. 32), each crack-surface point in the velocity field of its own side (001 eqs.
 /// 11–12; [`super::side_field`] chooses the field, as in 2D).
 fn task7_move_cracks(sim: &mut Simulation<D3>) {
+    /// `node_side` marks: a node no crack point touches, and one touched (side pending).
+    const UNSEEN: i8 = i8::MIN;
+    const SEEN: i8 = 2;
     let dt = sim.options.dt;
     let reach = 2.0 * sim.grid.h.max();
     rebuild_indices(sim);
     let mut cracks = std::mem::take(&mut sim.cracks);
+    let mut mark = std::mem::take(&mut sim.scratch.node_side3);
+    let mut touched = std::mem::take(&mut sim.scratch.touched3);
+    let num_nodes = sim.nodes.present.len();
+    if mark.len() != num_nodes {
+        mark.clear();
+        mark.resize(num_nodes, UNSEEN);
+    }
     let this: &Simulation<D3> = sim;
     const POINT_CHUNK: usize = 32;
     for (c, crack) in cracks.iter_mut().enumerate() {
-        {
-            let index = &this.scratch.crack_index3[c];
-            let shape: &Crack3 = &*crack;
-            // The geometric side of every node the crack's points touch and whose side
-            // [`super::side_field`] asks for (only nodes whose fields do not tell the side:
-            // it asks whenever it calls its closure, whichever surface), once per step
-            // (sorted by node; looked up by binary search).
-            let mut touched: Vec<u32> = Vec::new();
-            let mut node = [0u32; D3::MAX_NODES];
-            let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
-            for x in shape.above.iter().chain(&shape.below) {
-                let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
-                touched.extend_from_slice(&node[..n]);
+        let index = &this.scratch.crack_index3[c];
+        // The geometric side of every node the crack's surface points touch and whose side
+        // [`super::side_field`] asks for (only nodes whose fields do not tell the side: it
+        // asks whenever it calls its closure, whichever surface), once per step, kept per
+        // node in `mark` (0 for the touched nodes it does not ask about, reset after).
+        touched.clear();
+        let mut node = [0u32; D3::MAX_NODES];
+        let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
+        for x in crack.above.iter().chain(&crack.below) {
+            let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
+            for &i in &node[..n] {
+                if mark[i as usize] == UNSEEN {
+                    mark[i as usize] = SEEN;
+                    touched.push((i, 0));
+                }
             }
-            touched.sort_unstable();
-            touched.dedup();
-            touched.retain(|&i| {
+        }
+        {
+            let shape: &Crack3 = &*crack;
+            touched.par_iter_mut().for_each(|(i, side)| {
                 let mut asks = false;
-                super::side_field(this.nodes.present[i as usize], this.nodes.crack[i as usize], c, true, || {
+                super::side_field(this.nodes.present[*i as usize], this.nodes.crack[*i as usize], c, true, || {
                     asks = true;
                     0
                 });
-                asks
+                if asks {
+                    *side = side_of(shape, index, &this.grid.node_pos(*i as usize), reach);
+                }
             });
-            let sides: Vec<i8> = touched.par_iter().map(|&i| side_of(shape, index, &this.grid.node_pos(i as usize), reach)).collect();
-            let node_side = |i: usize| touched.binary_search(&(i as u32)).map_or(0, |k| sides[k]);
+        }
+        for &(i, side) in &touched {
+            mark[i as usize] = side;
+        }
+        {
+            let mark = &mark;
+            let node_side = |i: usize| if mark[i] == UNSEEN { 0 } else { mark[i] };
             let side = |i: usize, above: bool| {
                 let nodes = &this.nodes;
                 super::side_field(nodes.present[i], nodes.crack[i], c, above, || node_side(i)).map(|f| nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
             };
-            let mut above = shape.above.clone();
-            let mut below = shape.below.clone();
-            for (surface, is_above) in [(&mut above, true), (&mut below, false)] {
+            // Each surface point moves in its own side's fields (the nodes' fields and sides
+            // were fixed above, so the points move independently, in place).
+            for (surface, is_above) in [(&mut crack.above, true), (&mut crack.below, false)] {
                 surface.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &|i| side(i, is_above)) * dt);
             }
-            crack.above = above;
-            crack.below = below;
+        }
+        for &(i, _) in &touched {
+            mark[i as usize] = UNSEEN;
         }
         let cm = |i: usize| centre_of_mass_velocity(this, i);
         crack.surface.vertices.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &cm) * dt);
     }
     sim.cracks = cracks;
+    sim.scratch.node_side3 = mark;
+    sim.scratch.touched3 = touched;
 }
 
 /// Checked mode: no particle near a crack changes side (the 2D check with triangles). A
