@@ -283,8 +283,31 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                     let acc = &mut accs[k];
                     // One-sided triangles, in increasing index: the first that holds the
                     // node in its plane and closed area, with the particle off its plane.
-                    let scan = if cache.zero_one_sided & bit != 0 { cache.near.len() } else { 0 };
-                    for j in 0..scan {
+                    // The lowest such triangle regardless of the particle is cached per node
+                    // (`first`); it is the answer unless the particle lies in its plane, when
+                    // the scan goes on from the next one.
+                    let from = if cache.zero_one_sided & bit == 0 {
+                        cache.near.len()
+                    } else {
+                        if cache.first[k] == FIRST_UNKNOWN {
+                            cache.first[k] = first_inside(&cache.near, &view, k, xn);
+                        }
+                        match cache.first[k] {
+                            FIRST_SCAN => 0,
+                            FIRST_NONE => cache.near.len(),
+                            j0 => {
+                                let e = &cache.near[j0 as usize];
+                                let op = op_of(&mut cache.op, j0 as usize, e);
+                                if op != 0 {
+                                    acc.add_node_on(e.t as usize, op);
+                                    cache.near.len()
+                                } else {
+                                    j0 as usize + 1
+                                }
+                            }
+                        }
+                    };
+                    for j in from..cache.near.len() {
                         let e = &cache.near[j];
                         if e.one_sided == 0 || e.zero & bit == 0 || (e.inside_known & bit != 0 && e.inside & bit == 0) {
                             continue;
@@ -325,7 +348,6 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
 /// nodes (`key`: crack, corners of B, nodes; particles of one cell usually share it), in
 /// increasing index, each with the nodes' sides of its plane; and the current particle's
 /// sides and two-sided candidates.
-#[derive(Default)]
 struct CellCache {
     key: Option<(usize, Vector3, Vector3)>,
     nodes: Vec<u32>,
@@ -337,6 +359,10 @@ struct CellCache {
     near: Vec<NearTriangle>,
     /// The nodes in the plane of some one-sided triangle (the others skip that scan).
     zero_one_sided: u32,
+    /// Per node in `zero_one_sided`: the first one-sided triangle (position in `near`)
+    /// holding it in its plane and closed area ([`first_inside`]; `FIRST_UNKNOWN` until
+    /// asked).
+    first: [u32; D3::MAX_NODES],
     op: Vec<i8>,
     candidates: Vec<Candidate>,
 }
@@ -363,6 +389,52 @@ struct NearTriangle {
     /// Per axis a, the nodes with x_a ≥ the padded box's lower bound, and ≤ its upper.
     ge: [u32; 3],
     le: [u32; 3],
+}
+
+impl Default for CellCache {
+    fn default() -> Self {
+        CellCache {
+            key: None,
+            nodes: Vec::new(),
+            ts: Vec::new(),
+            coords: Default::default(),
+            near: Vec::new(),
+            zero_one_sided: 0,
+            first: [FIRST_UNKNOWN; D3::MAX_NODES],
+            op: Vec::new(),
+            candidates: Vec::new(),
+        }
+    }
+}
+
+/// [`CellCache::first`]: not yet asked, no such triangle, and "scan them all" (the test
+/// point off the plane could not be formed).
+const FIRST_UNKNOWN: u32 = u32::MAX;
+const FIRST_NONE: u32 = u32::MAX - 1;
+const FIRST_SCAN: u32 = u32::MAX - 2;
+
+/// The first one-sided triangle of `near` (all in axis planes) whose plane holds node k
+/// (`zero` bit) and whose closed area holds it too: [`crossing3::node_in_triangle`] with
+/// the test point x_n + e_a off the plane x_a = level (its answer is the same for every
+/// point off the plane, so for every particle of the box).
+///
+/// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
+fn first_inside(near: &[NearTriangle], view: &SurfaceView, k: usize, xn: &Vector3) -> u32 {
+    for (j, e) in near.iter().enumerate() {
+        if e.one_sided == 0 || e.zero & (1 << k) == 0 {
+            continue;
+        }
+        let Some((a, _, _)) = e.axis else { return FIRST_SCAN };
+        let mut p = *xn;
+        p[a] += 1.0;
+        if p[a] == xn[a] || j as u32 >= FIRST_SCAN {
+            return FIRST_SCAN;
+        }
+        if super::crossing3::node_in_triangle(view, e.t as usize, &p, xn) {
+            return j as u32;
+        }
+    }
+    FIRST_NONE
 }
 
 impl CellCache {
@@ -392,6 +464,7 @@ impl CellCache {
         ts.sort_unstable();
         self.near.extend(ts.iter().map(|&t| NearTriangle { t, padded: index.padded_box(t as usize), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0, ge: [0; 3], le: [0; 3] }));
         self.zero_one_sided = 0;
+        self.first = [FIRST_UNKNOWN; D3::MAX_NODES];
         for e in self.near.iter_mut() {
             let [pl, ph] = &e.padded;
             // A triangle in an axis plane x_a = level is classified here (exactly and
@@ -411,11 +484,22 @@ impl CellCache {
                     // bit; `pos` and `neg` are not read), so only the nodes in the plane and
                     // in the padded box are kept.
                     let in_plane = self.coords[a].iter().filter(|&&(x, _)| sign(x - level) == 0).fold(0, |m, &(_, b)| m | b);
-                    if in_plane != 0 {
-                        let in_box = (0..3).fold(u32::MAX, |m, c| m & self.coords[c].iter().filter(|&&(x, _)| x >= pl[c] && x <= ph[c]).fold(0, |m, &(_, b)| m | b));
-                        e.zero = in_plane & in_box;
-                        self.zero_one_sided |= e.zero;
+                    // (Along a, level ∓ pad hold level.)
+                    let mut zero = in_plane;
+                    for c in (0..3).filter(|&c| c != a) {
+                        if zero == 0 {
+                            break;
+                        }
+                        let mut in_box = 0;
+                        for &(x, bits) in &self.coords[c] {
+                            if x >= pl[c] && x <= ph[c] {
+                                in_box |= bits;
+                            }
+                        }
+                        zero &= in_box;
                     }
+                    e.zero = zero;
+                    self.zero_one_sided |= zero;
                     continue;
                 }
                 for &(x, bits) in &self.coords[a] {
