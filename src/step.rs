@@ -1049,6 +1049,10 @@ pub struct Scratch<S: Space> {
     pub crack_index: Vec<crate::crack::geometry::SegmentIndex>,
     /// Task 1 with cracks (3D): each crack's triangle index.
     pub crack_index3: Vec<crate::crack::crossing3::TriangleIndex>,
+    /// Task 7 with cracks (3D): per grid node, its geometric side of the crack being moved
+    /// (i8::MIN where no crack point touches it), and the nodes touched with their sides.
+    pub node_side3: Vec<i8>,
+    pub touched3: Vec<(u32, i8)>,
     pub pair_crack: Vec<u16>,
     pub split: Vec<bool>,
 }
@@ -1076,6 +1080,8 @@ impl<S: Space> Default for Scratch<S> {
             forced: Vec::new(),
             crack_index: Vec::new(),
             crack_index3: Vec::new(),
+            node_side3: Vec::new(),
+            touched3: Vec::new(),
             pair_crack: Vec::new(),
             split: Vec::new(),
         }

@@ -41,7 +41,6 @@
 
 use crate::dim::Vector3;
 use robust::{orient3d, Coord3D};
-use rstar::{PointDistance, RTree, RTreeObject, AABB};
 
 /// Which side of the crack the particle is on, when the line to the node crosses it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -325,43 +324,160 @@ pub struct TriangleIndex {
     range: Vec<[[u32; 3]; 2]>,
     /// Bounding box of each triangle (exact: minima and maxima of its corners).
     aabb: Vec<[Vector3; 2]>,
-    /// R*-tree of the triangles for nearest-triangle queries ([`Self::nearest`]).
-    tree: RTree<TriangleEntry>,
+    /// Per triangle lying in an axis plane x_a = level: (a, level, sign of its normal's
+    /// a-component) ([`Self::axis_plane`]).
+    axis_plane: Vec<Option<(usize, f64, i8)>>,
+    /// Bounding-volume hierarchy of the triangles for the nearest-triangle queries
+    /// ([`Self::nearest`]; [`Bvh`]).
+    bvh: Bvh,
     /// Bounding-box padding for conservative float tests ([`PAD`] of the extent).
     pad: f64,
+    /// Scratch of the bucket counts (kept to avoid an allocation per rebuild).
+    cursor: Vec<u32>,
     /// The points, triangles and bucket size the index was built from
     /// ([`Self::rebuild`] keeps the index when they are unchanged).
     built: (Vec<Vector3>, Vec<[u32; 3]>, f64),
 }
 
-/// A triangle in the R*-tree: its index and corners. Its envelope is its bounding box
-/// padded by [`PAD`] of the surface's extent, so that the box distance is a lower bound
-/// of the *computed* distance to the triangle despite round-off, and the tree returns
-/// triangles in exact non-decreasing order of the distance [`closest_on_triangle`] gives.
-#[derive(Clone, Debug)]
-struct TriangleEntry {
-    t: u32,
-    corners: [Vector3; 3],
-    envelope: AABB<[f64; 3]>,
-}
-
-/// Envelope padding relative to the surface's extent (far above round-off in
-/// [`closest_on_triangle`], far below any distance a decision depends on).
+/// Box padding relative to the surface's extent (far above round-off in
+/// [`closest_on_triangle`], far below any distance a decision depends on). A triangle's
+/// padded box holds its computed closest point to any x with a margin, so the distance
+/// from x to the box is a lower bound of the *computed* distance to the triangle despite
+/// round-off: a search that skips boxes farther than the best distance found gives the
+/// exhaustive search's answer.
 const PAD: f64 = 1e-9;
 
-impl RTreeObject for TriangleEntry {
-    type Envelope = AABB<[f64; 3]>;
-    fn envelope(&self) -> Self::Envelope {
-        self.envelope
+/// A bounding-volume hierarchy of a surface's triangles for the nearest-triangle queries:
+/// its shape (median splits of the triangles' box centres on the longest axis, leaves of
+/// at most [`BVH_LEAF`] triangles) is built when the triangle list changes, and its boxes
+/// (padded by [`PAD`]) are refitted when the points move. Queries are exact whatever the
+/// shape (branch and bound with boxes that are lower bounds, see [`PAD`]) and need no
+/// allocation (a fixed stack: the median split keeps the depth at log₂ of the count).
+#[derive(Clone, Debug, Default)]
+struct Bvh {
+    /// Nodes in depth-first order: the left child of an inner node follows it.
+    nodes: Vec<BvhNode>,
+    /// Triangle indices in leaf order.
+    order: Vec<u32>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct BvhNode {
+    lo: Vector3,
+    hi: Vector3,
+    /// Leaf (`count` > 0): its triangles are order[a .. a + count]; inner: a is the
+    /// right child.
+    a: u32,
+    count: u32,
+}
+
+const BVH_LEAF: usize = 4;
+/// Stack depth of a query: at most one pending node per level, and the median split
+/// gives at most ⌈log₂ n⌉ + 1 levels.
+const BVH_STACK: usize = 64;
+
+impl Bvh {
+    /// The shape for triangles with bounding boxes `aabb`.
+    fn build(&mut self, aabb: &[[Vector3; 2]]) {
+        self.nodes.clear();
+        self.order.clear();
+        self.order.extend(0..aabb.len() as u32);
+        if !aabb.is_empty() {
+            self.split(0, aabb.len(), aabb);
+        }
+    }
+
+    fn split(&mut self, start: usize, end: usize, aabb: &[[Vector3; 2]]) -> usize {
+        let k = self.nodes.len();
+        self.nodes.push(BvhNode { lo: Vector3::zeros(), hi: Vector3::zeros(), a: start as u32, count: (end - start) as u32 });
+        if end - start <= BVH_LEAF {
+            return k;
+        }
+        let centre = |t: u32| aabb[t as usize][0] + aabb[t as usize][1];
+        let (lo, hi) = self.order[start..end].iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), &t| (l.inf(&centre(t)), h.sup(&centre(t))));
+        let ext = hi - lo;
+        let axis = if ext.x >= ext.y && ext.x >= ext.z { 0 } else if ext.y >= ext.z { 1 } else { 2 };
+        let mid = (start + end) / 2;
+        self.order[start..end].select_nth_unstable_by(mid - start, |&a, &b| centre(a)[axis].total_cmp(&centre(b)[axis]).then(a.cmp(&b)));
+        self.nodes[k].count = 0;
+        self.split(start, mid, aabb);
+        let right = self.split(mid, end, aabb);
+        self.nodes[k].a = right as u32;
+        k
+    }
+
+    /// New boxes for the same triangles: each leaf's the union of its triangles' boxes
+    /// padded by `pad`, each inner node's the union of its children's.
+    fn refit(&mut self, aabb: &[[Vector3; 2]], pad: f64) {
+        let p = Vector3::repeat(pad);
+        for k in (0..self.nodes.len()).rev() {
+            let n = self.nodes[k];
+            let (lo, hi) = if n.count > 0 {
+                self.order[n.a as usize..(n.a + n.count) as usize].iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), &t| {
+                    let [tl, th] = &aabb[t as usize];
+                    (l.inf(&(tl - p)), h.sup(&(th + p)))
+                })
+            } else {
+                let (l, r) = (&self.nodes[k + 1], &self.nodes[n.a as usize]);
+                (l.lo.inf(&r.lo), l.hi.sup(&r.hi))
+            };
+            self.nodes[k].lo = lo;
+            self.nodes[k].hi = hi;
+        }
+    }
+
+    /// Squared distance from x to node k's box (0 inside).
+    #[inline]
+    fn box_distance_2(&self, k: usize, x: &Vector3) -> f64 {
+        let n = &self.nodes[k];
+        let mut s = 0.0;
+        for c in 0..3 {
+            let d = (n.lo[c] - x[c]).max(x[c] - n.hi[c]).max(0.0);
+            s += d * d;
+        }
+        s
+    }
+
+    /// Visit every triangle whose node boxes all pass `keep(box distance²)` (asked again
+    /// before each box, so it may tighten as `leaf` finds triangles), nearer child first.
+    #[inline]
+    fn search(&self, x: &Vector3, keep: &dyn Fn(f64) -> bool, leaf: &mut dyn FnMut(u32)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = [(0u32, 0.0f64); BVH_STACK];
+        stack[0] = (0, self.box_distance_2(0, x));
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let (k, d) = stack[top];
+            if !keep(d) {
+                continue;
+            }
+            let n = &self.nodes[k as usize];
+            if n.count > 0 {
+                for &t in &self.order[n.a as usize..(n.a + n.count) as usize] {
+                    leaf(t);
+                }
+            } else {
+                let (l, r) = (k + 1, n.a);
+                let (dl, dr) = (self.box_distance_2(l as usize, x), self.box_distance_2(r as usize, x));
+                // Push the farther first so the nearer is searched first.
+                let (first, second) = if dl <= dr { ((r, dr), (l, dl)) } else { ((l, dl), (r, dr)) };
+                assert!(top + 2 <= BVH_STACK, "crack BVH deeper than {BVH_STACK}");
+                stack[top] = first;
+                stack[top + 1] = second;
+                top += 2;
+            }
+        }
     }
 }
 
-impl PointDistance for TriangleEntry {
-    fn distance_2(&self, x: &[f64; 3]) -> f64 {
-        let x = Vector3::from(*x);
-        let [a, b, c] = &self.corners;
-        (x - closest_on_triangle(&x, a, b, c).0).norm_squared()
-    }
+/// Squared computed distance from x to triangle (a, b, c) (the one every nearest query
+/// orders by).
+#[inline]
+fn distance_2(x: &Vector3, [a, b, c]: &[Vector3; 3]) -> f64 {
+    (x - closest_on_triangle(x, a, b, c).0).norm_squared()
 }
 
 /// The point of triangle (a, b, c) closest to x (Ericson, Real-Time Collision Detection
@@ -419,6 +535,8 @@ impl TriangleIndex {
         if !self.start.is_empty() && self.built.2 == bucket && self.built.0 == points && self.built.1 == triangles {
             return;
         }
+        // The hierarchy's shape stays while the triangles do (only its boxes are refitted).
+        let same_shape = !self.start.is_empty() && self.built.1 == triangles && self.built.0.len() == points.len();
         self.built.0.clear();
         self.built.0.extend_from_slice(points);
         self.built.1.clear();
@@ -434,25 +552,34 @@ impl TriangleIndex {
         self.n = n;
         self.range.clear();
         self.aabb.clear();
+        self.axis_plane.clear();
         for t in triangles {
             let (tl, th) = t.iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, h), &i| (l.inf(&points[i as usize]), h.sup(&points[i as usize])));
             self.range.push([self.bucket_of(&tl), self.bucket_of(&th)]);
             self.aabb.push([tl, th]);
+            let v = t.map(|i| &points[i as usize]);
+            self.axis_plane.push((0..3).find(|&a| v[0][a] == v[1][a] && v[1][a] == v[2][a]).map(|a| {
+                // The sign of the normal's a-component: the side of v0 + e_a (level + 1 > level).
+                let mut up = *v[0];
+                up[a] += 1.0;
+                (a, v[0][a], side_of_plane(v[0], v[1], v[2], &up))
+            }));
         }
         let nb = n[0] * n[1] * n[2];
-        self.start.clear();
-        self.start.resize(nb + 1, 0);
-        let mut counts = vec![0u32; nb + 1];
+        let counts = &mut self.cursor;
+        counts.clear();
+        counts.resize(nb + 1, 0);
         for r in &self.range {
             for_each_bucket(n, r, |b| counts[b + 1] += 1);
         }
         for b in 0..nb {
             counts[b + 1] += counts[b];
         }
-        self.start.copy_from_slice(&counts);
+        self.start.clear();
+        self.start.extend_from_slice(counts);
         self.items.clear();
         self.items.resize(counts[nb] as usize, 0);
-        let mut cursor = counts;
+        let cursor = counts;
         for (t, r) in self.range.iter().enumerate() {
             for_each_bucket(n, r, |b| {
                 self.items[cursor[b] as usize] = t as u32;
@@ -461,23 +588,25 @@ impl TriangleIndex {
         }
         let pad = PAD * (ext.amax() + lo.amax().max(hi.amax()));
         self.pad = pad;
-        let entries = triangles
-            .iter()
-            .zip(&self.aabb)
-            .enumerate()
-            .map(|(t, (tri, [tl, th]))| TriangleEntry {
-                t: t as u32,
-                corners: tri.map(|i| points[i as usize]),
-                envelope: AABB::from_corners((tl - Vector3::repeat(pad)).into(), (th + Vector3::repeat(pad)).into()),
-            })
-            .collect();
-        self.tree = RTree::bulk_load(entries);
+        if !same_shape {
+            self.bvh.build(&self.aabb);
+        }
+        self.bvh.refit(&self.aabb, pad);
     }
 
     /// Whether the closed box [lo, hi] meets the bounding box of all the triangles (exact).
     #[inline]
     pub fn box_meets_extent(&self, lo: &Vector3, hi: &Vector3) -> bool {
         (0..3).all(|c| lo[c] <= self.hi[c] && hi[c] >= self.lo[c])
+    }
+
+    /// For triangle t lying in an axis plane x_a = level (its three corners share that
+    /// coordinate): (a, level, o) with o the exact sign of its normal's a-component, so the
+    /// exact side of any point x is o · sign(x_a − level) (the triple product reduces to
+    /// that component); None for the others.
+    #[inline]
+    pub fn axis_plane(&self, t: usize) -> Option<(usize, f64, i8)> {
+        self.axis_plane[t]
     }
 
     /// Triangle t's bounding box padded by [`PAD`] of the surface's extent: the box
@@ -517,39 +646,42 @@ impl TriangleIndex {
     }
 
     /// The triangle nearest x within `reach` (ties: lowest index), with the barycentric
-    /// coordinates of its point nearest x — the exhaustive search's answer: the tree
-    /// returns triangles in non-decreasing computed distance (see [`TriangleEntry`]), so
-    /// the first one and any at the same distance are all the candidates.
+    /// coordinates of its point nearest x — the exhaustive search's answer: the
+    /// hierarchy ([`Bvh`]) skips only boxes farther than the best distance found, and a
+    /// box's distance is a lower bound of its triangles' computed distances ([`PAD`]).
     pub fn nearest(&self, x: &Vector3, reach: f64) -> Option<(usize, [f64; 3])> {
-        let mut best: Option<(f64, u32, [Vector3; 3])> = None;
-        for (e, d) in self.tree.nearest_neighbor_iter_with_distance_2([x.x, x.y, x.z]) {
-            if d > reach * reach || best.is_some_and(|(bd, _, _)| d > bd) {
-                break;
+        let r2 = reach * reach;
+        let best = std::cell::Cell::new(None::<(f64, u32)>);
+        let (points, triangles) = (&self.built.0, &self.built.1);
+        let corners = |t: u32| triangles[t as usize].map(|i| points[i as usize]);
+        self.bvh.search(x, &|d| d <= r2 && best.get().is_none_or(|(bd, _)| d <= bd), &mut |t| {
+            let d = distance_2(x, &corners(t));
+            if d <= r2 && best.get().is_none_or(|(bd, bt)| d < bd || (d == bd && t < bt)) {
+                best.set(Some((d, t)));
             }
-            if best.is_none_or(|(_, bt, _)| e.t < bt) {
-                best = Some((d, e.t, e.corners));
-            }
-        }
-        best.map(|(_, t, [a, b, c])| (t as usize, closest_on_triangle(x, &a, &b, &c).1))
+        });
+        best.get().map(|(_, t)| {
+            let [a, b, c] = corners(t);
+            (t as usize, closest_on_triangle(x, &a, &b, &c).1)
+        })
     }
 
     /// The triangle nearest x within `reach` (strictly) among those onto whose closed
     /// area x projects perpendicularly (ties: lowest index) — the 3D form of the 2D rule
     /// of `crack::side_of` (the nearest segment whose closed interior x projects onto).
-    /// Candidates come from the tree in non-decreasing distance; for a triangle x projects
-    /// into, that distance is the distance to its plane, so the first accepted one and any
-    /// others at the same distance are all the candidates.
+    /// For a triangle x projects into, the distance is the distance to its plane.
     pub fn nearest_projecting(&self, x: &Vector3, reach: f64) -> Option<usize> {
-        let mut best: Option<(f64, u32)> = None;
-        for (e, d) in self.tree.nearest_neighbor_iter_with_distance_2([x.x, x.y, x.z]) {
-            if d >= reach * reach || best.is_some_and(|(bd, _)| d > bd) {
-                break;
+        let r2 = reach * reach;
+        let best = std::cell::Cell::new(None::<(f64, u32)>);
+        let (points, triangles) = (&self.built.0, &self.built.1);
+        self.bvh.search(x, &|d| d < r2 && best.get().is_none_or(|(bd, _)| d <= bd), &mut |t| {
+            let v = triangles[t as usize].map(|i| points[i as usize]);
+            let d = distance_2(x, &v);
+            if d < r2 && best.get().is_none_or(|(bd, bt)| d < bd || (d == bd && t < bt)) && projects_into(x, &v) {
+                best.set(Some((d, t)));
             }
-            if projects_into(x, &e.corners) && best.is_none_or(|(_, bt)| e.t < bt) {
-                best = Some((d, e.t));
-            }
-        }
-        best.map(|(_, t)| t as usize)
+        });
+        best.get().map(|(_, t)| t as usize)
     }
 
     /// Bucket coordinates of x, clamped to the grid of buckets.

@@ -202,7 +202,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                     continue;
                 }
                 let view = crack.view();
-                cache.prepare(c, &lo, &hi, nodes, xn, &index[c], &view);
+                cache.prepare(c, &lo, &hi, nodes, xn, &index[c]);
                 if cache.near.is_empty() {
                     continue;
                 }
@@ -238,7 +238,41 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         _ => 0,
                     };
                     if other != 0 {
-                        candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some() });
+                        candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some(), ge: e.ge, le: e.le });
+                    }
+                }
+                // Each candidate's verdicts for the nodes on its other side whose segment
+                // from the particle meets its padded box (per axis from the box's distinct
+                // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
+                // exactly), accumulated per node (the verdict does not depend on the order).
+                let pending = (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k);
+                let mut accs = [Crossing3::default(); STRIDE];
+                for q in &candidates {
+                    // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
+                    // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
+                    let mut m = q.other & pending;
+                    for a in 0..3 {
+                        if xp[a] < q.padded[0][a] {
+                            m &= q.ge[a];
+                        }
+                        if xp[a] > q.padded[1][a] {
+                            m &= q.le[a];
+                        }
+                    }
+                    while m != 0 {
+                        let k = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let xn = &xn[k];
+                        let seg = [xp.inf(xn), xp.sup(xn)];
+                        if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
+                            if q.sides_known {
+                                let bit = 1u32 << k;
+                                let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
+                                accs[k].add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
+                            } else {
+                                accs[k].add_with_side(&view, q.t as usize, &xp, xn, q.op);
+                            }
+                        }
                     }
                 }
                 for (k, xn) in xn.iter().enumerate() {
@@ -246,22 +280,34 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         continue;
                     }
                     let bit = 1u32 << k;
-                    let seg = [xp.inf(xn), xp.sup(xn)];
-                    let mut acc = Crossing3::default();
-                    for q in candidates.iter().filter(|q| q.other & bit != 0) {
-                        if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
-                            if q.sides_known {
-                                let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
-                                acc.add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
-                            } else {
-                                acc.add_with_side(&view, q.t as usize, &xp, xn, q.op);
-                            }
-                        }
-                    }
+                    let acc = &mut accs[k];
                     // One-sided triangles, in increasing index: the first that holds the
                     // node in its plane and closed area, with the particle off its plane.
-                    let scan = if cache.zero_one_sided & bit != 0 { cache.near.len() } else { 0 };
-                    for j in 0..scan {
+                    // The lowest such triangle regardless of the particle is cached per node
+                    // (`first`); it is the answer unless the particle lies in its plane, when
+                    // the scan goes on from the next one.
+                    let from = if cache.zero_one_sided & bit == 0 {
+                        cache.near.len()
+                    } else {
+                        if cache.first[k] == FIRST_UNKNOWN {
+                            cache.first[k] = first_inside(&cache.near, &view, k, xn);
+                        }
+                        match cache.first[k] {
+                            FIRST_SCAN => 0,
+                            FIRST_NONE => cache.near.len(),
+                            j0 => {
+                                let e = &cache.near[j0 as usize];
+                                let op = op_of(&mut cache.op, j0 as usize, e);
+                                if op != 0 {
+                                    acc.add_node_on(e.t as usize, op);
+                                    cache.near.len()
+                                } else {
+                                    j0 as usize + 1
+                                }
+                            }
+                        }
+                    };
+                    for j in from..cache.near.len() {
                         let e = &cache.near[j];
                         if e.one_sided == 0 || e.zero & bit == 0 || (e.inside_known & bit != 0 && e.inside & bit == 0) {
                             continue;
@@ -302,13 +348,21 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
 /// nodes (`key`: crack, corners of B, nodes; particles of one cell usually share it), in
 /// increasing index, each with the nodes' sides of its plane; and the current particle's
 /// sides and two-sided candidates.
-#[derive(Default)]
 struct CellCache {
     key: Option<(usize, Vector3, Vector3)>,
     nodes: Vec<u32>,
+    /// Scratch: the indices of the triangles near B, sorted.
+    ts: Vec<u32>,
+    /// Per axis, the distinct coordinates of the nodes, each with the nodes (bits) that
+    /// have it (a comparison of a node's coordinate is made once per value).
+    coords: [Vec<(f64, u32)>; 3],
     near: Vec<NearTriangle>,
     /// The nodes in the plane of some one-sided triangle (the others skip that scan).
     zero_one_sided: u32,
+    /// Per node in `zero_one_sided`: the first one-sided triangle (position in `near`)
+    /// holding it in its plane and closed area ([`first_inside`]; `FIRST_UNKNOWN` until
+    /// asked).
+    first: [u32; D3::MAX_NODES],
     op: Vec<i8>,
     candidates: Vec<Candidate>,
 }
@@ -332,60 +386,141 @@ struct NearTriangle {
     axis: Option<(usize, f64, i8)>,
     inside_known: u32,
     inside: u32,
+    /// Per axis a, the nodes with x_a ≥ the padded box's lower bound, and ≤ its upper.
+    ge: [u32; 3],
+    le: [u32; 3],
+}
+
+impl Default for CellCache {
+    fn default() -> Self {
+        CellCache {
+            key: None,
+            nodes: Vec::new(),
+            ts: Vec::new(),
+            coords: Default::default(),
+            near: Vec::new(),
+            zero_one_sided: 0,
+            first: [FIRST_UNKNOWN; D3::MAX_NODES],
+            op: Vec::new(),
+            candidates: Vec::new(),
+        }
+    }
+}
+
+/// [`CellCache::first`]: not yet asked, no such triangle, and "scan them all" (the test
+/// point off the plane could not be formed).
+const FIRST_UNKNOWN: u32 = u32::MAX;
+const FIRST_NONE: u32 = u32::MAX - 1;
+const FIRST_SCAN: u32 = u32::MAX - 2;
+
+/// The first one-sided triangle of `near` (all in axis planes) whose plane holds node k
+/// (`zero` bit) and whose closed area holds it too: [`crossing3::node_in_triangle`] with
+/// the test point x_n + e_a off the plane x_a = level (its answer is the same for every
+/// point off the plane, so for every particle of the box).
+///
+/// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
+fn first_inside(near: &[NearTriangle], view: &SurfaceView, k: usize, xn: &Vector3) -> u32 {
+    for (j, e) in near.iter().enumerate() {
+        if e.one_sided == 0 || e.zero & (1 << k) == 0 {
+            continue;
+        }
+        let Some((a, _, _)) = e.axis else { return FIRST_SCAN };
+        let mut p = *xn;
+        p[a] += 1.0;
+        if p[a] == xn[a] || j as u32 >= FIRST_SCAN {
+            return FIRST_SCAN;
+        }
+        if super::crossing3::node_in_triangle(view, e.t as usize, &p, xn) {
+            return j as u32;
+        }
+    }
+    FIRST_NONE
 }
 
 impl CellCache {
     /// Make the cache hold B = [lo, hi] of crack c with these nodes.
     #[allow(clippy::too_many_arguments)]
-    fn prepare(&mut self, c: usize, lo: &Vector3, hi: &Vector3, nodes: &[u32], xn: &[Vector3], index: &TriangleIndex, view: &SurfaceView) {
+    fn prepare(&mut self, c: usize, lo: &Vector3, hi: &Vector3, nodes: &[u32], xn: &[Vector3], index: &TriangleIndex) {
         if self.key == Some((c, *lo, *hi)) && self.nodes == nodes {
             return;
         }
         self.key = Some((c, *lo, *hi));
         self.nodes.clear();
         self.nodes.extend_from_slice(nodes);
-        self.near.clear();
-        index.near(lo, hi, |t| {
-            self.near.push(NearTriangle { t: t as u32, padded: index.padded_box(t), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0 })
-        });
-        self.near.sort_unstable_by_key(|e| e.t);
-        self.zero_one_sided = 0;
-        for e in self.near.iter_mut() {
-            let tri = view.triangles[e.t as usize];
-            let v = tri.map(|q| &view.points[q as usize]);
-            // Only a triangle in an axis plane x_a = level is classified here (exactly and
-            // cheaply); the others take the general test.
-            let Some(a) = (0..3).find(|&a| v[0][a] == v[1][a] && v[1][a] == v[2][a]) else { continue };
-            let level = v[0][a];
-            // The sign of its normal's a-component: the side of v0 + e_a (level + 1 > level).
-            let mut up = *v[0];
-            up[a] += 1.0;
-            let o = side_of_plane(v[0], v[1], v[2], &up);
-            e.axis = Some((a, level, o));
-            // Every point x of B has the side o · sign(x_a − level).
-            e.one_sided = if lo[a] >= level && hi[a] > level {
-                o
-            } else if hi[a] <= level && lo[a] < level {
-                -o
-            } else {
-                0
-            };
-            let [pl, ph] = &e.padded;
+        // The distinct node coordinates per axis, each with the nodes that have it.
+        for (a, vals) in self.coords.iter_mut().enumerate() {
+            vals.clear();
             for (k, x) in xn.iter().enumerate() {
-                // One-sided: only a node in the plane and in the closed triangle matters, so
-                // only nodes in its (padded) box are looked at.
-                if e.one_sided != 0 && (0..3).any(|c| x[c] < pl[c] || x[c] > ph[c]) {
-                    continue;
-                }
-                let bit = 1u32 << k;
-                match o * sign(x[a] - level) {
-                    1 => e.pos |= bit,
-                    -1 => e.neg |= bit,
-                    _ => e.zero |= bit,
+                match vals.iter_mut().find(|(v, _)| *v == x[a]) {
+                    Some((_, bits)) => *bits |= 1 << k,
+                    None => vals.push((x[a], 1 << k)),
                 }
             }
-            if e.one_sided != 0 {
-                self.zero_one_sided |= e.zero;
+        }
+        self.near.clear();
+        let ts = &mut self.ts;
+        ts.clear();
+        index.near(lo, hi, |t| ts.push(t as u32));
+        ts.sort_unstable();
+        self.near.extend(ts.iter().map(|&t| NearTriangle { t, padded: index.padded_box(t as usize), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0, ge: [0; 3], le: [0; 3] }));
+        self.zero_one_sided = 0;
+        self.first = [FIRST_UNKNOWN; D3::MAX_NODES];
+        for e in self.near.iter_mut() {
+            let [pl, ph] = &e.padded;
+            // A triangle in an axis plane x_a = level is classified here (exactly and
+            // cheaply); the others take the general test.
+            if let Some((a, level, o)) = index.axis_plane(e.t as usize) {
+                e.axis = Some((a, level, o));
+                // Every point x of B has the side o · sign(x_a − level).
+                e.one_sided = if lo[a] >= level && hi[a] > level {
+                    o
+                } else if hi[a] <= level && lo[a] < level {
+                    -o
+                } else {
+                    0
+                };
+                if e.one_sided != 0 {
+                    // Only a node in the plane and in the closed triangle matters (its `zero`
+                    // bit; `pos` and `neg` are not read), so only the nodes in the plane and
+                    // in the padded box are kept.
+                    let in_plane = self.coords[a].iter().filter(|&&(x, _)| sign(x - level) == 0).fold(0, |m, &(_, b)| m | b);
+                    // (Along a, level ∓ pad hold level.)
+                    let mut zero = in_plane;
+                    for c in (0..3).filter(|&c| c != a) {
+                        if zero == 0 {
+                            break;
+                        }
+                        let mut in_box = 0;
+                        for &(x, bits) in &self.coords[c] {
+                            if x >= pl[c] && x <= ph[c] {
+                                in_box |= bits;
+                            }
+                        }
+                        zero &= in_box;
+                    }
+                    e.zero = zero;
+                    self.zero_one_sided |= zero;
+                    continue;
+                }
+                for &(x, bits) in &self.coords[a] {
+                    match o * sign(x - level) {
+                        1 => e.pos |= bits,
+                        -1 => e.neg |= bits,
+                        _ => e.zero |= bits,
+                    }
+                }
+            }
+            // A two-sided triangle: per axis, the nodes at or above the padded box's lower
+            // bound and at or below its upper (for the candidates' segment-box test).
+            for (c, vals) in self.coords.iter().enumerate() {
+                for &(x, bits) in vals {
+                    if x >= pl[c] {
+                        e.ge[c] |= bits;
+                    }
+                    if x <= ph[c] {
+                        e.le[c] |= bits;
+                    }
+                }
             }
         }
     }
@@ -409,6 +544,9 @@ struct Candidate {
     zero: u32,
     /// Whether `pos` and `zero` hold the nodes' sides (axis-plane triangles).
     sides_known: bool,
+    /// As in [`NearTriangle`].
+    ge: [u32; 3],
+    le: [u32; 3],
 }
 
 fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> CheckError {
@@ -503,55 +641,78 @@ fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Op
 /// (eq. 32), each crack-surface point in the velocity field of its own side (001 eqs.
 /// 11–12; [`super::side_field`] chooses the field, as in 2D).
 fn task7_move_cracks(sim: &mut Simulation<D3>) {
+    /// `node_side` marks: a node no crack point touches, and one touched (side pending).
+    const UNSEEN: i8 = i8::MIN;
+    const SEEN: i8 = 2;
     let dt = sim.options.dt;
     let reach = 2.0 * sim.grid.h.max();
     rebuild_indices(sim);
     let mut cracks = std::mem::take(&mut sim.cracks);
+    let mut mark = std::mem::take(&mut sim.scratch.node_side3);
+    let mut touched = std::mem::take(&mut sim.scratch.touched3);
+    let num_nodes = sim.nodes.present.len();
+    if mark.len() != num_nodes {
+        mark.clear();
+        mark.resize(num_nodes, UNSEEN);
+    }
     let this: &Simulation<D3> = sim;
     const POINT_CHUNK: usize = 32;
     for (c, crack) in cracks.iter_mut().enumerate() {
-        {
-            let index = &this.scratch.crack_index3[c];
-            let shape: &Crack3 = &*crack;
-            // The geometric side of every node the crack's points touch and whose side
-            // [`super::side_field`] asks for (only nodes whose fields do not tell the side:
-            // it asks whenever it calls its closure, whichever surface), once per step
-            // (sorted by node; looked up by binary search).
-            let mut touched: Vec<u32> = Vec::new();
-            let mut node = [0u32; D3::MAX_NODES];
-            let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
-            for x in shape.above.iter().chain(&shape.below) {
-                let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
-                touched.extend_from_slice(&node[..n]);
+        let index = &this.scratch.crack_index3[c];
+        // The geometric side of every node the crack's surface points touch and whose side
+        // [`super::side_field`] asks for (only nodes whose fields do not tell the side: it
+        // asks whenever it calls its closure, whichever surface), once per step, kept per
+        // node in `mark` (0 for the touched nodes it does not ask about, reset after).
+        touched.clear();
+        let mut node = [0u32; D3::MAX_NODES];
+        let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
+        for x in crack.above.iter().chain(&crack.below) {
+            let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
+            for &i in &node[..n] {
+                if mark[i as usize] == UNSEEN {
+                    mark[i as usize] = SEEN;
+                    touched.push((i, 0));
+                }
             }
-            touched.sort_unstable();
-            touched.dedup();
-            touched.retain(|&i| {
+        }
+        {
+            let shape: &Crack3 = &*crack;
+            touched.par_iter_mut().for_each(|(i, side)| {
                 let mut asks = false;
-                super::side_field(this.nodes.present[i as usize], this.nodes.crack[i as usize], c, true, || {
+                super::side_field(this.nodes.present[*i as usize], this.nodes.crack[*i as usize], c, true, || {
                     asks = true;
                     0
                 });
-                asks
+                if asks {
+                    *side = side_of(shape, index, &this.grid.node_pos(*i as usize), reach);
+                }
             });
-            let sides: Vec<i8> = touched.par_iter().map(|&i| side_of(shape, index, &this.grid.node_pos(i as usize), reach)).collect();
-            let node_side = |i: usize| touched.binary_search(&(i as u32)).map_or(0, |k| sides[k]);
+        }
+        for &(i, side) in &touched {
+            mark[i as usize] = side;
+        }
+        {
+            let mark = &mark;
+            let node_side = |i: usize| if mark[i] == UNSEEN { 0 } else { mark[i] };
             let side = |i: usize, above: bool| {
                 let nodes = &this.nodes;
                 super::side_field(nodes.present[i], nodes.crack[i], c, above, || node_side(i)).map(|f| nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
             };
-            let mut above = shape.above.clone();
-            let mut below = shape.below.clone();
-            for (surface, is_above) in [(&mut above, true), (&mut below, false)] {
+            // Each surface point moves in its own side's fields (the nodes' fields and sides
+            // were fixed above, so the points move independently, in place).
+            for (surface, is_above) in [(&mut crack.above, true), (&mut crack.below, false)] {
                 surface.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &|i| side(i, is_above)) * dt);
             }
-            crack.above = above;
-            crack.below = below;
+        }
+        for &(i, _) in &touched {
+            mark[i as usize] = UNSEEN;
         }
         let cm = |i: usize| centre_of_mass_velocity(this, i);
         crack.surface.vertices.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &cm) * dt);
     }
     sim.cracks = cracks;
+    sim.scratch.node_side3 = mark;
+    sim.scratch.touched3 = touched;
 }
 
 /// Checked mode: no particle near a crack changes side (the 2D check with triangles). A
