@@ -105,7 +105,7 @@ pub struct SolverSpec {
     #[serde(default)]
     pub crack_method: CrackMethod,
     /// Length of the crack-tip zone in cells (2D; default 0, none): pairs meeting a crack
-    /// within half of it from a tip are shared between fields (crack::tip_zone).
+    /// less than this behind a tip are shared between fields (crack::tip_zone).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub tip_zone: f64,
     /// Largest number of time steps the run may take (default [`DEFAULT_MAX_STEPS`]): a

@@ -732,13 +732,9 @@ impl<S: Dimension> Simulation<S> {
             }
             let w = if FIELDS { pairs.frac[item] } else { 1.0 };
             if w != 1.0 {
-                // A pair in a crack-tip zone: shared with field 0 (crack::tip_zone).
                 present |= 1;
-                acc[f].add_lanes(scaled(lanes, S::DIM + 1, w));
-                acc[0].add_lanes(scaled(lanes, S::DIM + 1, 1.0 - w));
-            } else {
-                acc[f].add_lanes(lanes);
             }
+            add_shared(&mut acc, f, w, lanes, S::DIM + 1);
             if VOLUME {
                 // Nodal area (eq. 27 per unit thickness), compared with the cell area.
                 // The particle's current area, eq. 25 per unit thickness (only the pairs of
@@ -776,22 +772,17 @@ impl<S: Dimension> Simulation<S> {
             for c in 0..S::DIM {
                 lanes[c] = -(v0 * t[c]);
             }
-            // A pair in a crack-tip zone is shared between two fields (crack::tip_zone).
             let w = if CRACKS { pairs.frac[item] } else { 1.0 };
-            let alt = if w != 1.0 { 0 } else { f };
-            if w != 1.0 {
-                int[f].add_lanes(scaled(lanes, S::DIM, w));
-                int[alt].add_lanes(scaled(lanes, S::DIM, 1.0 - w));
-            } else {
-                int[f].add_lanes(lanes);
-            }
+            add_shared(&mut int, f, w, lanes, S::DIM);
             if has_ext {
                 let force = p.force[pp];
                 if !has_body && (0..S::DIM).all(|c| force[c].to_bits() == 0) && p.mass[pp].is_finite() {
                     // An unloaded particle: f_p = +0 + (±0)·m = (+0, +0) exactly, and its
                     // terms +0·S = +0 only decide the sign of an all-zero sum (below).
                     skipped_zeros[f] = true;
-                    skipped_zeros[alt] = true;
+                    if w != 1.0 {
+                        skipped_zeros[0] = true;
+                    }
                 } else {
                     let s = pairs.s[item];
                     let fp = force + self.body_force[p.body[pp] as usize] * p.mass[pp];
@@ -799,12 +790,7 @@ impl<S: Dimension> Simulation<S> {
                     for c in 0..S::DIM {
                         lanes[c] = fp[c] * s;
                     }
-                    if w != 1.0 {
-                        ext[f].add_lanes(scaled(lanes, S::DIM, w));
-                        ext[alt].add_lanes(scaled(lanes, S::DIM, 1.0 - w));
-                    } else {
-                        ext[f].add_lanes(lanes);
-                    }
+                    add_shared(&mut ext, f, w, lanes, S::DIM);
                 }
             }
         }
@@ -841,13 +827,7 @@ impl<S: Dimension> Simulation<S> {
                 lanes[c] = m * p.v[pp][c] * s;
             }
             let w = if CRACKS { pairs.frac[item] } else { 1.0 };
-            if w != 1.0 {
-                // A pair in a crack-tip zone: shared with field 0 (crack::tip_zone).
-                acc[f].add_lanes(scaled(lanes, S::DIM, w));
-                acc[0].add_lanes(scaled(lanes, S::DIM, 1.0 - w));
-            } else {
-                acc[f].add_lanes(lanes);
-            }
+            add_shared(&mut acc, f, w, lanes, S::DIM);
         }
         let mut out = [S::Vector::zeros(); MAX_FIELDS];
         for (f, mom) in out.iter_mut().enumerate().take(self.nodes.fields.len()) {
@@ -915,13 +895,22 @@ impl<S: Dimension> Simulation<S> {
     }
 }
 
-/// The first `n` lanes of `l` times `w` (a pair's share of a field, crack::tip_zone).
+/// Add a pair's terms (the first `n` lanes of `lanes`) to field `f`, or, for a pair in a
+/// crack-tip zone with share `w` < 1 (crack::tip_zone), w of them to field `f` and 1 − w
+/// to field 0.
 #[inline(always)]
-fn scaled<L: crate::exact::Lanes>(mut l: L, n: usize, w: f64) -> L {
-    for c in 0..n {
-        l[c] *= w;
+fn add_shared<L: crate::exact::Lanes, A: crate::exact::LaneSum<L>>(acc: &mut [A; MAX_FIELDS], f: usize, w: f64, lanes: L, n: usize) {
+    if w == 1.0 {
+        acc[f].add_lanes(lanes);
+        return;
     }
-    l
+    let (mut a, mut b) = (lanes, lanes);
+    for c in 0..n {
+        a[c] *= w;
+        b[c] *= 1.0 - w;
+    }
+    acc[f].add_lanes(a);
+    acc[0].add_lanes(b);
 }
 
 /// The fast sums if they certify their results, else the gather again with [`Exact`]

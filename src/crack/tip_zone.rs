@@ -81,15 +81,16 @@ pub fn zones(cracks: &[Crack], z: f64, x: &[Vector], lp: &[Vector]) -> Vec<TipZo
             }
             let mut arc = vec![f64::INFINITY; n];
             arc[tip_index] = 0.0;
-            let (mut s, mut last) = (0.0, tip);
-            let order: Box<dyn Iterator<Item = usize>> = if at_start { Box::new(1..n) } else { Box::new((0..n - 1).rev()) };
-            for j in order {
-                s += (pts[j] - last).norm();
-                arc[j] = s;
-                last = pts[j];
-                if s >= z {
+            // Walk from the tip along the crack until z behind it.
+            let (mut s, mut j) = (0.0, tip_index);
+            while s < z {
+                let next = if at_start { j + 1 } else { j.wrapping_sub(1) };
+                if next >= n {
                     break;
                 }
+                s += (pts[next] - pts[j]).norm();
+                arc[next] = s;
+                j = next;
             }
             out.push(TipZone { crack: c, tip, at_start, arc });
         }
