@@ -465,6 +465,14 @@ fn bad_scenes() -> Vec<Bad> {
         bad("growth increment NaN", growing("increment = nan"), "cracks[0].fracture.growth.increment", "(0, 1]"),
         bad("growth max_speed infinite", growing("max_speed = inf"), "cracks[0].fracture.growth.max_speed", "finite"),
         bad("growth speed_window zero", growing("speed_window = 0"), "cracks[0].fracture.growth.speed_window", "at least 1"),
+        bad("tip zone negative", BASE.replace("particles_per_cell = 2", "particles_per_cell = 2\ntip_zone = -1.0"), "solver.tip_zone", "0 (none) to 4"),
+        bad("tip zone NaN", BASE.replace("particles_per_cell = 2", "particles_per_cell = 2\ntip_zone = nan"), "solver.tip_zone", "finite"),
+        bad(
+            "tip zone with visibility",
+            with_crack("points = [[0.1, 0.45], [0.5, 0.45]]").replace("particles_per_cell = 2", "particles_per_cell = 2\ntip_zone = 1.0\ncrack_method = \"visibility\""),
+            "solver.tip_zone",
+            "visibility",
+        ),
         bad("probe end NaN", format!("{BASE}\n[[probes]]\nname = \"p\"\nfrom = [0.1, 0.1]\nto = [nan, 0.5]\npoints = 5\n"), "probes[0].to[0]", "finite"),
     ]
 }
