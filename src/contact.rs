@@ -114,7 +114,7 @@ impl<S: Dimension> Simulation<S> {
                     (dv, v_rel > crack.v_contact())
                 }
                 ContactDetection::Opening => {
-                    let Some(gap) = S::normal_gap(self, c, i) else {
+                    let Some(gap) = S::normal_gap(self, c, i, n) else {
                         continue;
                     };
                     // Apart through the whole step: no contact.

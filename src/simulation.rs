@@ -32,9 +32,10 @@ pub trait Dimension: Space {
     fn contact_momenta(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
     /// Contact on the momenta updated in Task 4, forces back-computed.
     fn contact_updated_momenta(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
-    /// Normal opening of crack c's tracked surfaces at node i (contact detection by
-    /// opening), None without a crack segment near it.
-    fn normal_gap(sim: &Simulation<Self>, c: usize, i: usize) -> Option<f64>;
+    /// Normal opening of crack c's tracked surfaces at node i along the node's crack
+    /// normal `n` (from above to below; contact detection by opening): positive when the
+    /// faces are apart, None without a crack segment near it.
+    fn normal_gap(sim: &Simulation<Self>, c: usize, i: usize, n: Self::Vector) -> Option<f64>;
     /// Task 7: move the cracks in the centre-of-mass velocity field.
     fn task7_move_cracks(sim: &mut Simulation<Self>);
     /// Crack propagation at the end of a step (only when the scene lets cracks grow).

@@ -1042,6 +1042,9 @@ pub struct Scratch<S: Space> {
     /// (i8::MIN where no crack point touches it), and the nodes touched with their sides.
     pub node_side3: Vec<i8>,
     pub touched3: Vec<(u32, i8)>,
+    /// Task 7 with cracks (2D): the crack particles of the crack being moved, as they were
+    /// before the move.
+    pub crack_points: Vec<crate::dim::Vector>,
     pub pair_crack: Vec<u16>,
     pub split: Vec<bool>,
 }
@@ -1071,6 +1074,7 @@ impl<S: Space> Default for Scratch<S> {
             crack_index3: Vec::new(),
             node_side3: Vec::new(),
             touched3: Vec::new(),
+            crack_points: Vec::new(),
             pair_crack: Vec::new(),
             split: Vec::new(),
         }

@@ -95,27 +95,28 @@ impl Crack {
         Crack { above: points.clone(), below: points.clone(), points, contact, v_sep, v_contact, detection: ContactDetection::Volume, extent }
     }
 
-    /// Normal opening of the crack surfaces at the point of the crack nearest `x` (among
-    /// the segments `index` finds within `reach`): the openings [`Crack::opening_nt`] of the
-    /// segment's two crack particles, interpolated linearly. Positive when the faces are
-    /// apart. None without a segment within `reach`.
-    pub fn normal_opening_near(&self, index: &geometry::SegmentIndex, x: Vector, reach: f64) -> Option<f64> {
+    /// Normal gap between the tracked crack surfaces at `x` (a node), along `n_above`
+    /// (the unit normal pointing to the "above" side): (x_a − x_b)·n̂ with x_a, x_b the
+    /// points of the above and below surface polylines nearest `x`. Positive when the
+    /// faces are apart. Each surface's nearest point is found by walking its polyline from
+    /// the segment of the crack (`index`, within `reach`) nearest `x`, for as long as the
+    /// distance decreases: the surfaces are read where they are, not at the crack particle
+    /// of the same index, which may lie elsewhere along the crack (a crack particle moves
+    /// in the centre-of-mass velocity, each surface in its own side's). None without a
+    /// crack segment within `reach`.
+    pub fn normal_opening_near(&self, index: &geometry::SegmentIndex, x: Vector, reach: f64, n_above: Vector) -> Option<f64> {
         let r = Vector::new(reach, reach);
-        let mut best: Option<(f64, usize, f64)> = None;
+        let mut best: Option<(f64, usize)> = None;
         for i in index.near(x - r, x + r) {
-            let (a, b) = (self.points[i], self.points[i + 1]);
-            let d = b - a;
-            let l2 = d.norm_squared();
-            if l2 == 0.0 {
-                continue;
-            }
-            let t = ((x - a).dot(&d) / l2).clamp(0.0, 1.0);
-            let dist = (x - (a + d * t)).norm_squared();
-            if dist <= reach * reach && best.is_none_or(|(bd, _, _)| dist < bd) {
-                best = Some((dist, i, t));
+            let (dist, _) = nearest_on_segment(self.points[i], self.points[i + 1], x);
+            if dist <= reach * reach && best.is_none_or(|(bd, _)| dist < bd) {
+                best = Some((dist, i));
             }
         }
-        best.map(|(_, i, t)| (1.0 - t) * self.opening_nt(i).0 + t * self.opening_nt(i + 1).0)
+        let (_, k) = best?;
+        let xa = nearest_on_polyline(&self.above, k, x);
+        let xb = nearest_on_polyline(&self.below, k, x);
+        Some((xa - xb).dot(&n_above))
     }
 
     /// Crack-opening displacement at crack particle k: above − below.
@@ -291,10 +292,10 @@ impl crate::simulation::Dimension for crate::dim::D2 {
     fn contact_updated_momenta(sim: &mut Simulation) -> Result<(), CheckError> {
         sim.apply_contact_to_updated_momenta()
     }
-    fn normal_gap(sim: &Simulation, c: usize, i: usize) -> Option<f64> {
+    fn normal_gap(sim: &Simulation, c: usize, i: usize, n: Vector) -> Option<f64> {
         let reach = 2.0 * sim.grid.h.x.max(sim.grid.h.y);
         let x = sim.grid.node_pos(i);
-        sim.scratch.crack_index.get(c).and_then(|index| sim.cracks[c].normal_opening_near(index, x, reach))
+        sim.scratch.crack_index.get(c).and_then(|index| sim.cracks[c].normal_opening_near(index, x, reach, -n))
     }
     fn task7_move_cracks(sim: &mut Simulation) {
         sim.task7_move_cracks()
@@ -468,43 +469,53 @@ impl Simulation {
         // Moved in place: the cracks are taken out while the grid and nodes are read.
         let mut cracks = std::mem::take(&mut self.cracks);
         let mut indices = std::mem::take(&mut self.scratch.crack_index);
+        let mut old = std::mem::take(&mut self.scratch.crack_points);
         indices.resize_with(cracks.len(), Default::default);
         let this: &Simulation = self;
-        // Velocity at x from the nodes' fields chosen by `field(i)`, renormalised.
-        let velocity = |x: &Vector, field: &dyn Fn(usize) -> Option<Vector>| -> Vector {
+        // Velocity at x from the nodes' fields chosen by `field(i)`, renormalised; None
+        // where no node around x has the field.
+        let velocity = |x: &Vector, field: &dyn Fn(usize) -> Option<Vector>| -> Option<Vector> {
             let w = shape::weights(&this.grid, ShapeKind::Linear, x, &zero);
             // Σ S v (x, y) and Σ S over the nodes with the field, correctly rounded.
             let [sx, sy, ws] = weighted_sum::<FastSum<3>>(&w, field).or_else(|| weighted_sum::<ExactSums<3>>(&w, field)).expect("exact sums certify");
-            if ws > 0.0 {
-                Vector::new(sx, sy) / ws
-            } else {
-                zero
-            }
+            (ws > 0.0).then(|| Vector::new(sx, sy) / ws)
         };
         let cm = |i: usize| this.centre_of_mass_velocity(i);
         // Every point moves independently of the others, so the points are updated in
         // parallel (the bits do not depend on how they are split).
         const POINT_CHUNK: usize = 32;
         for (c, crack) in cracks.iter_mut().enumerate() {
-            // The surfaces first: their fields are found against the crack before it moves.
-            {
-                let Crack { points, above, below, .. } = &mut *crack;
-                let points = &*points;
-                let index = &mut indices[c];
-                index.rebuild(points);
-                let index = &*index;
-                let side = |i: usize, above: bool| {
-                    this.surface_field(c, points, index, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i])
-                };
-                for (surface, is_above) in [(above, true), (below, false)] {
-                    surface.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += velocity(x, &|i| side(i, is_above)) * dt);
-                }
-            }
-            crack.points.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += velocity(x, &cm) * dt);
+            let Crack { points, above, below, .. } = &mut *crack;
+            // The surfaces' fields are found against the crack before it moves.
+            old.clear();
+            old.extend_from_slice(points);
+            let index = &mut indices[c];
+            index.rebuild(&old);
+            let (before, index) = (&old[..], &*index);
+            let side = |i: usize, above: bool| this.surface_field(c, before, index, i, above, reach).map(|f| this.nodes.fields[f].mom[i] / this.nodes.fields[f].mass[i]);
+            (points.par_iter_mut(), above.par_iter_mut(), below.par_iter_mut()).into_par_iter().with_min_len(POINT_CHUNK).for_each(|(x, a, b)| {
+                let va = velocity(a, &|i| side(i, true));
+                let vb = velocity(b, &|i| side(i, false));
+                // A crack particle with no material around it (in a crack open by more
+                // than a cell) has no centre-of-mass velocity: it moves with its two
+                // surfaces, so that it stays between them. Left in place, it would lag the
+                // material it belongs to (1.4 mm in the cracked disks at 0.5 mm), the
+                // crack would fold, and the opening read at a node would be that of
+                // another part of the crack.
+                let v = velocity(x, &cm).unwrap_or_else(|| match (va, vb) {
+                    (Some(va), Some(vb)) => (va + vb) * 0.5,
+                    (Some(v), None) | (None, Some(v)) => v,
+                    (None, None) => zero,
+                });
+                *a += va.unwrap_or(zero) * dt;
+                *b += vb.unwrap_or(zero) * dt;
+                *x += v * dt;
+            });
             crack.extent = Extent::of(&crack.points);
         }
         self.cracks = cracks;
         self.scratch.crack_index = indices;
+        self.scratch.crack_points = old;
     }
 
     /// Centre-of-mass velocity of node i over its fields (eq. 32), None without mass.
@@ -638,6 +649,39 @@ fn nearest_segment_normal(points: &[Vector], index: &geometry::SegmentIndex, x: 
         return near.1;
     }
     nearest_of(points, 0..points.len().saturating_sub(1), x).1
+}
+
+/// (squared distance, point) of the point of segment [a, b] nearest `x`.
+fn nearest_on_segment(a: Vector, b: Vector, x: Vector) -> (f64, Vector) {
+    let d = b - a;
+    let l2 = d.norm_squared();
+    let t = if l2 > 0.0 { ((x - a).dot(&d) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let p = a + d * t;
+    ((x - p).norm_squared(), p)
+}
+
+/// The point of polyline `pts` nearest `x`, by a walk over its segments from segment
+/// `start` in the direction the distance decreases (the local minimum nearest `start`).
+fn nearest_on_polyline(pts: &[Vector], start: usize, x: Vector) -> Vector {
+    let seg = |i: usize| nearest_on_segment(pts[i], pts[i + 1], x);
+    let (mut d, mut p) = seg(start);
+    let mut i = start;
+    while i > 0 {
+        let (d2, p2) = seg(i - 1);
+        if d2 >= d {
+            break;
+        }
+        (d, p, i) = (d2, p2, i - 1);
+    }
+    let mut i = start;
+    while i + 2 < pts.len() {
+        let (d2, p2) = seg(i + 1);
+        if d2 >= d {
+            break;
+        }
+        (d, p, i) = (d2, p2, i + 1);
+    }
+    p
 }
 
 /// (squared distance, normal) of the segment nearest `x` among `segs`, ascending; the

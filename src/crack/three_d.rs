@@ -102,7 +102,7 @@ impl crate::simulation::Dimension for D3 {
     fn contact_updated_momenta(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         sim.apply_contact_to_updated_momenta()
     }
-    fn normal_gap(_: &Simulation<D3>, _: usize, _: usize) -> Option<f64> {
+    fn normal_gap(_: &Simulation<D3>, _: usize, _: usize, _: Vector3) -> Option<f64> {
         None // refused when the scene is read: 3D contact detects by volume
     }
     fn task7_move_cracks(sim: &mut Simulation<D3>) {
