@@ -315,8 +315,8 @@ pub struct CrackSpec {
     /// Relative volume above which faces are in contact (default 1.1).
     #[serde(default = "default_vcontact")]
     pub v_contact: f64,
-    /// How contact is detected: "volume" (default; Nairn 2003 eqs. 8–12, with v_sep and
-    /// v_contact) or "opening" (the tracked crack surfaces' normal opening).
+    /// How contact is detected: "opening" (default; the tracked crack surfaces' normal
+    /// opening) or "volume" (Nairn 2003 eqs. 8–12, with v_sep and v_contact).
     #[serde(default)]
     pub detection: crate::crack::ContactDetection,
     /// J-integral and stress intensity factors at this crack's tips (Guo & Nairn 2004 §3),

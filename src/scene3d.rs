@@ -219,7 +219,7 @@ pub struct CrackSpec3 {
     pub v_sep: f64,
     #[serde(default = "crate::scene::default_vcontact")]
     pub v_contact: f64,
-    /// Only "volume" in 3D.
+    /// How contact is detected, as in 2D: "opening" (default) or "volume".
     #[serde(default)]
     pub detection: crate::crack::ContactDetection,
     /// J, K_I, K_II, K_III at the crack's front nodes ([`crate::fracture::front3`]),
@@ -962,9 +962,6 @@ impl Scene3 {
                         return Err(invalid(f("fracture.nodes.box"), format!("min {min:?} exceeds max {max:?}")));
                     }
                 }
-            }
-            if c.detection != crate::crack::ContactDetection::Volume {
-                return Err(invalid(f("detection"), "3D crack contact is detected by the relative nodal volume only; remove the field or set \"volume\""));
             }
             if let crate::scene::ContactSpec::Friction { mu } = c.contact {
                 if !(mu >= 0.0 && mu.is_finite()) {

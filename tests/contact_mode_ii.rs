@@ -1,7 +1,8 @@
 //! Crack-face contact under pure sliding (issue 22 item 3): the equal-shear split beam
 //! ("ENF") of case `split_beams_k` at 2 mm, with frictionless contact on its faces, damped
 //! to rest. Reference: pure mode II, K_I = 0 (004 §4.1; beam theory of eq. 24 has no
-//! opening). Detected by the tracked surfaces' opening, the faces slide without opening:
+//! opening). Detected as by default, by the tracked surfaces' opening, the faces slide
+//! without opening:
 //! |K_I/K_II| ≤ 0.5 % (the issue's goal; measured −0.25 % with the fitted COD, −0.04 %
 //! next to the tip). Detected by the relative nodal volume, they ratchet open (negative
 //! control, measured +1.5 %: the volume cannot see a gap of a small fraction of a cell, so
@@ -10,13 +11,15 @@
 use cramp::output::{run_scene, RunOptions};
 use cramp::verify::cases::fracture::{beam, split_contour, WHOLE_BEAM};
 
-fn ratio(detection: &str) -> f64 {
+/// K_I/K_II with the contact detection `detection` (None: the scene's default).
+fn ratio(detection: Option<&str>) -> f64 {
     let h = 2.0;
-    let scene = beam(h, 1.0, 1.0, "frictionless", split_contour(h), WHOLE_BEAM)
-        .set("cracks.0.fracture.cod", "\"fit\"")
-        .set("cracks.0.detection", format!("\"{detection}\""))
-        .load()
-        .unwrap();
+    let mut file = beam(h, 1.0, 1.0, "frictionless", split_contour(h), WHOLE_BEAM).set("cracks.0.fracture.cod", "\"fit\"");
+    if let Some(d) = detection {
+        file = file.set("cracks.0.detection", format!("\"{d}\""));
+    }
+    let scene = file.load().unwrap();
+    let detection = detection.unwrap_or("default");
     let r = run_scene(&scene, &RunOptions { checked: Some(false), ..Default::default() }).unwrap();
     let t = r.tips.last().unwrap();
     println!("{detection}: K_I/K_II = {:+.5}, δ_I = {:+.3e}, δ_II = {:+.3e}, K_II = {:.4}", t.k1 / t.k2, t.delta_i, t.delta_ii, t.k2);
@@ -25,8 +28,8 @@ fn ratio(detection: &str) -> f64 {
 
 #[test]
 fn frictionless_contact_does_not_open_a_sliding_crack() {
-    let opening = ratio("opening");
-    assert!(opening.abs() <= 0.005, "K_I/K_II = {opening}");
-    let volume = ratio("volume");
+    let default = ratio(None);
+    assert!(default.abs() <= 0.005, "K_I/K_II = {default}");
+    let volume = ratio(Some("volume"));
     assert!(volume > 0.005, "negative control: volume detection should ratchet the faces open, K_I/K_II = {volume}");
 }

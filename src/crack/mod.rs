@@ -40,14 +40,18 @@ pub enum ContactDetection {
     /// `v_contact` in contact, in between in contact when approaching. It cannot see a gap
     /// smaller than a fraction of a cell: approaching faces a little apart get the impulse
     /// and separating ones do not, so under sliding the faces ratchet open (pure mode II
-    /// split beam at 2 mm: δ_I/δ_II = +1.5 %, K_I/K_II = +1.5 %; issue 22).
-    #[default]
+    /// split beam at 2 mm: δ_I/δ_II = +1.5 %, K_I/K_II = +1.5 %; issue 22), and on a
+    /// growing crack every approach of the freshly opened flanks counts as contact, which
+    /// with USAVG and MUSL creates energy (issue 20; docs/verification.md, `growth_strip`).
     Volume,
     /// The normal opening of the tracked crack surfaces at the node (the displacement-based
-    /// detection 004 §2.2 reports trying): contact only where the faces would meet within the
-    /// step, gap − Δt (v_a − v_b)·n̂ ≤ 0, and then the approach is removed only beyond what
-    /// closes the gap, so faces close onto each other without overlapping or being pushed
-    /// apart.
+    /// detection 004 §2.2 reports trying; the default): contact only where the faces would
+    /// meet within the step, gap − Δt (v_a − v_b)·n̂ ≤ 0, and then the approach is removed
+    /// only beyond what closes the gap, so faces close onto each other without overlapping
+    /// or being pushed apart. In 2D the gap is read from the two surfaces' points nearest
+    /// the node ([`Crack::normal_opening_near`]); in 3D from the crack particles' openings
+    /// interpolated at the point of the crack nearest the node.
+    #[default]
     Opening,
 }
 
@@ -79,7 +83,7 @@ pub struct Crack {
     pub v_sep: f64,
     /// Relative nodal volume above which the faces are in contact.
     pub v_contact: f64,
-    /// How contact is detected (set after [`Crack::new`]; default the nodal volume).
+    /// How contact is detected (set after [`Crack::new`]; default the surfaces' opening).
     pub detection: ContactDetection,
     /// Bounding box of `points` (Subtask 1 of the line-crossing algorithm).
     pub extent: Extent,
@@ -92,7 +96,7 @@ pub struct Crack {
 impl Crack {
     pub fn new(points: Vec<Vector>, contact: ContactLaw, v_sep: f64, v_contact: f64) -> Self {
         let extent = Extent::of(&points);
-        Crack { above: points.clone(), below: points.clone(), points, contact, v_sep, v_contact, detection: ContactDetection::Volume, extent }
+        Crack { above: points.clone(), below: points.clone(), points, contact, v_sep, v_contact, detection: ContactDetection::default(), extent }
     }
 
     /// Normal gap between the tracked crack surfaces at `x` (a node), along `n_above`

@@ -52,7 +52,7 @@ impl Crack3 {
             contact,
             v_sep,
             v_contact,
-            detection: ContactDetection::Volume,
+            detection: ContactDetection::default(),
             boundary_edge,
             boundary_vertex,
             front,
@@ -102,8 +102,16 @@ impl crate::simulation::Dimension for D3 {
     fn contact_updated_momenta(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         sim.apply_contact_to_updated_momenta()
     }
-    fn normal_gap(_: &Simulation<D3>, _: usize, _: usize, _: Vector3) -> Option<f64> {
-        None // refused when the scene is read: 3D contact detects by volume
+    /// The opening of the crack particles (above − below) interpolated at the point of
+    /// the crack surface nearest the node (barycentric in its triangle), along −n.
+    fn normal_gap(sim: &Simulation<D3>, c: usize, i: usize, n: Vector3) -> Option<f64> {
+        let reach = 2.0 * sim.grid.h.max();
+        let x = sim.grid.node_pos(i);
+        let (t, w) = sim.scratch.crack_index3.get(c)?.nearest(&x, reach)?;
+        let crack = &sim.cracks[c];
+        let tri = crack.surface.triangles[t];
+        let opening = (0..3).fold(Vector3::zeros(), |acc, j| acc + crack.opening(tri[j] as usize) * w[j]);
+        Some(-opening.dot(&n))
     }
     fn task7_move_cracks(sim: &mut Simulation<D3>) {
         task7_move_cracks(sim)
@@ -615,7 +623,7 @@ fn centre_of_mass_velocity(sim: &Simulation<D3>, i: usize) -> Option<Vector3> {
 
 /// Velocity at x from the nodes' fields chosen by `field(i)`, with the linear shape
 /// functions renormalised over the nodes that have one (001's N*); zero if none has.
-fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Option<Vector3>) -> Vector3 {
+fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Option<Vector3>) -> Option<Vector3> {
     let mut node = [0u32; D3::MAX_NODES];
     let mut s = [0.0; D3::MAX_NODES];
     let mut g = [Vector3::zeros(); D3::MAX_NODES];
@@ -630,11 +638,7 @@ fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Op
         a.certified()
     }
     let [sx, sy, sz, ws] = sums::<FastSum<4>>(n, &node, &s, field).or_else(|| sums::<ExactSums<4>>(n, &node, &s, field)).expect("exact sums certify");
-    if ws > 0.0 {
-        Vector3::new(sx, sy, sz) / ws
-    } else {
-        Vector3::zeros()
-    }
+    (ws > 0.0).then(|| Vector3::new(sx, sy, sz) / ws)
 }
 
 /// Task 7 in 3D: every crack particle moves in the centre-of-mass velocity of its nodes
@@ -699,16 +703,28 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
                 super::side_field(nodes.present[i], nodes.crack[i], c, above, || node_side(i)).map(|f| nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
             };
             // Each surface point moves in its own side's fields (the nodes' fields and sides
-            // were fixed above, so the points move independently, in place).
-            for (surface, is_above) in [(&mut crack.above, true), (&mut crack.below, false)] {
-                surface.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &|i| side(i, is_above)) * dt);
-            }
+            // were fixed above, so the points move independently, in place), each crack
+            // particle in the centre-of-mass velocity; one without material around it (in
+            // a crack open by more than a cell) moves with its two surface points, so that
+            // it stays between them (as in 2D, `crate::crack`'s Task 7).
+            let cm = |i: usize| centre_of_mass_velocity(this, i);
+            let Crack3 { surface, above, below, .. } = &mut *crack;
+            (surface.vertices.par_iter_mut(), above.par_iter_mut(), below.par_iter_mut()).into_par_iter().with_min_len(POINT_CHUNK).for_each(|(x, a, b)| {
+                let va = field_velocity(this, a, &|i| side(i, true));
+                let vb = field_velocity(this, b, &|i| side(i, false));
+                let v = field_velocity(this, x, &cm).unwrap_or_else(|| match (va, vb) {
+                    (Some(va), Some(vb)) => (va + vb) * 0.5,
+                    (Some(v), None) | (None, Some(v)) => v,
+                    (None, None) => Vector3::zeros(),
+                });
+                *a += va.unwrap_or_else(Vector3::zeros) * dt;
+                *b += vb.unwrap_or_else(Vector3::zeros) * dt;
+                *x += v * dt;
+            });
         }
         for &(i, _) in &touched {
             mark[i as usize] = UNSEEN;
         }
-        let cm = |i: usize| centre_of_mass_velocity(this, i);
-        crack.surface.vertices.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &cm) * dt);
     }
     sim.cracks = cracks;
     sim.scratch.node_side3 = mark;
