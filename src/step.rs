@@ -1044,6 +1044,8 @@ pub struct Scratch<S: Space> {
     pub touched3: Vec<(u32, i8)>,
     pub pair_crack: Vec<u16>,
     pub split: Vec<bool>,
+    /// Task 1 with cracks (2D): the crack-tip zones of this step (`solver.tip_zone`).
+    pub tip_zones: Vec<crate::crack::tip_zone::TipZone>,
 }
 
 /// Every buffer is refilled before it is read within a step, so a copy of a simulation
@@ -1073,6 +1075,7 @@ impl<S: Space> Default for Scratch<S> {
             touched3: Vec::new(),
             pair_crack: Vec::new(),
             split: Vec::new(),
+            tip_zones: Vec::new(),
         }
     }
 }
