@@ -362,7 +362,7 @@ impl Simulation {
         // The crack-tip zones of this step (none unless `solver.tip_zone` is set).
         let z = self.options.tip_zone;
         let walk = 3.0 * grid.h.x.max(grid.h.y);
-        scratch.tip_zones = tip_zone::zones(cracks, z, walk, &p.x, &p.lp);
+        tip_zone::zones(&mut scratch.tip_zones, cracks, z, walk, &p.x, &p.lp);
         let zones = &scratch.tip_zones;
         let tol = ON_LINE * grid.h.x.min(grid.h.y);
         // A particle's nodes lie within h + l_p of it per axis: a node has a weight only if

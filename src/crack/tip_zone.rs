@@ -67,51 +67,59 @@ pub struct TipZone {
 /// particle half-width) lies within 1.5 half-widths of some particle. The arc distances
 /// reach z + `walk` behind the tip, so that the nodes on the crack's line whose support
 /// reaches into the zone are found ([`on_line`]).
-pub fn zones(cracks: &[Crack], z: f64, walk: f64, x: &[Vector], lp: &[Vector]) -> Vec<TipZone> {
-    let mut out = Vec::new();
-    if z <= 0.0 {
-        return out;
-    }
-    let lmax = lp.iter().fold(0.0f64, |m, l| m.max(l.x).max(l.y));
-    for (c, crack) in cracks.iter().enumerate() {
-        let pts = &crack.points;
-        let n = pts.len();
-        if n < 2 {
-            continue;
-        }
-        for at_start in [true, false] {
-            let (tip_index, prev) = if at_start { (0, 1) } else { (n - 1, n - 2) };
-            let tip = pts[tip_index];
-            let d = tip - pts[prev];
-            let l = d.norm();
-            if l == 0.0 {
+pub fn zones(out: &mut Vec<TipZone>, cracks: &[Crack], z: f64, walk: f64, x: &[Vector], lp: &[Vector]) {
+    // The entries (and their arc arrays) of the last step are reused: the step does not
+    // allocate once the number of zones and crack points stop growing.
+    let mut used = 0;
+    if z > 0.0 {
+        let lmax = lp.iter().fold(0.0f64, |m, l| m.max(l.x).max(l.y));
+        for (c, crack) in cracks.iter().enumerate() {
+            let pts = &crack.points;
+            let n = pts.len();
+            if n < 2 {
                 continue;
             }
-            // The domains of a lattice only touch, the crack runs along their edges and
-            // the material moves: hence 1.5 half-widths; a point l_p or more outside the
-            // body's edge is 2 l_p from the nearest particle.
-            let probe = tip + d * ((z + lmax) / l);
-            let inside = x.iter().zip(lp).any(|(xp, l)| (xp.x - probe.x).abs() <= 1.5 * l.x && (xp.y - probe.y).abs() <= 1.5 * l.y);
-            if !inside {
-                continue;
-            }
-            let mut arc = vec![f64::INFINITY; n];
-            arc[tip_index] = 0.0;
-            // Walk from the tip along the crack until z behind it.
-            let (mut s, mut j) = (0.0, tip_index);
-            while s < z + walk {
-                let next = if at_start { j + 1 } else { j.wrapping_sub(1) };
-                if next >= n {
-                    break;
+            for at_start in [true, false] {
+                let (tip_index, prev) = if at_start { (0, 1) } else { (n - 1, n - 2) };
+                let tip = pts[tip_index];
+                let d = tip - pts[prev];
+                let l = d.norm();
+                if l == 0.0 {
+                    continue;
                 }
-                s += (pts[next] - pts[j]).norm();
-                arc[next] = s;
-                j = next;
+                // The domains of a lattice only touch, the crack runs along their edges and
+                // the material moves: hence 1.5 half-widths; a point l_p or more outside the
+                // body's edge is 2 l_p from the nearest particle.
+                let probe = tip + d * ((z + lmax) / l);
+                let inside = x.iter().zip(lp).any(|(xp, l)| (xp.x - probe.x).abs() <= 1.5 * l.x && (xp.y - probe.y).abs() <= 1.5 * l.y);
+                if !inside {
+                    continue;
+                }
+                if used == out.len() {
+                    out.push(TipZone { crack: c, tip, at_start, arc: Vec::new() });
+                }
+                let zone = &mut out[used];
+                used += 1;
+                *zone = TipZone { crack: c, tip, at_start, arc: std::mem::take(&mut zone.arc) };
+                let arc = &mut zone.arc;
+                arc.clear();
+                arc.resize(n, f64::INFINITY);
+                arc[tip_index] = 0.0;
+                // Walk from the tip along the crack until z + walk behind it.
+                let (mut s, mut j) = (0.0, tip_index);
+                while s < z + walk {
+                    let next = if at_start { j + 1 } else { j.wrapping_sub(1) };
+                    if next >= n {
+                        break;
+                    }
+                    s += (pts[next] - pts[j]).norm();
+                    arc[next] = s;
+                    j = next;
+                }
             }
-            out.push(TipZone { crack: c, tip, at_start, arc });
         }
     }
-    out
+    out.truncate(used);
 }
 
 /// The share φ = s/z of the pair's particle in the crossing field, for a pair whose line
@@ -238,7 +246,8 @@ mod tests {
         let x: Vec<Vector> = (0..40).flat_map(|i| (0..8).map(move |j| Vector::new(0.25 + 0.5 * i as f64, -1.75 + 0.5 * j as f64))).collect();
         let lp = vec![Vector::new(0.25, 0.25); x.len()];
         let z = 1.0;
-        let zones = zones(std::slice::from_ref(&c), z, 0.0, &x, &lp);
+        let mut zones = Vec::new();
+        super::zones(&mut zones, std::slice::from_ref(&c), z, 0.0, &x, &lp);
         // The start (x = −1) is outside the material (particles from x = 0): no zone.
         assert_eq!(zones.len(), 1);
         let zn = &zones[0];
@@ -259,7 +268,9 @@ mod tests {
         assert_eq!(phi(Vector::new(2.0, 0.25), Vector::new(2.0, 0.5)), None);
         // ... but `on_line`'s: each particle by its own place along the crack, for nodes on
         // the crack and on its continuation ahead of the tip; field 0 ahead of the tip.
-        let zn = &super::zones(std::slice::from_ref(&c), z, 2.0, &x, &lp)[0];
+        let mut zs = Vec::new();
+        super::zones(&mut zs, std::slice::from_ref(&c), z, 2.0, &x, &lp);
+        let zn = &zs[0];
         let tol = 1e-3;
         for xn in [Vector::new(2.0, 0.5), Vector::new(3.0, 0.5 + 1e-9), Vector::new(1.0, 0.5)] {
             let got = on_line(zn, &pts, Vector::new(2.1, 0.75), xn, z, tol).unwrap();
