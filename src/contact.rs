@@ -35,10 +35,12 @@ pub trait CrackFaces {
 /// Which fields of a two-field node are "above" and "below" the crack: field 1 is the
 /// particles above the crack relative to the node, field 2 below; field 0 is on the
 /// node's own side, so it is below when the other is 1 and above when the other is 2.
+/// A node on a crack's line inside a crack-tip zone holds all three (crack::tip_zone::
+/// on_line): fields 1 and 2 are the two faces, field 0 the material joined across.
 #[inline]
 fn above_below(present: u8) -> Option<(usize, usize)> {
     match present {
-        0b110 => Some((1, 2)),
+        0b110 | 0b111 => Some((1, 2)),
         0b011 => Some((1, 0)),
         0b101 => Some((0, 2)),
         _ => None,

@@ -1047,6 +1047,8 @@ pub struct Scratch<S: Space> {
     pub crack_points: Vec<crate::dim::Vector>,
     pub pair_crack: Vec<u16>,
     pub split: Vec<bool>,
+    /// Task 1 with cracks (2D): the crack-tip zones of this step (`solver.tip_zone`).
+    pub tip_zones: Vec<crate::crack::tip_zone::TipZone>,
 }
 
 /// Every buffer is refilled before it is read within a step, so a copy of a simulation
@@ -1077,6 +1079,7 @@ impl<S: Space> Default for Scratch<S> {
             crack_points: Vec::new(),
             pair_crack: Vec::new(),
             split: Vec::new(),
+            tip_zones: Vec::new(),
         }
     }
 }

@@ -37,15 +37,24 @@ const WARMUP: usize = 20;
 const COUNTED: usize = 20;
 
 fn scene(checked: bool) -> cramp::scene::Scene {
+    scene_with_zone(checked, 0.0)
+}
+
+fn scene_with_zone(checked: bool, zone: f64) -> cramp::scene::Scene {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/verification/dcb_perf.toml")).unwrap();
     let mut scene = cramp::scene::Scene::from_toml(&text, "verification/dcb_perf.toml").unwrap();
     scene.solver.checked = checked;
+    scene.solver.tip_zone = zone;
     scene
 }
 
 /// Allocator calls of each of the counted steps, after the warm-up, in a pool of `threads`.
 fn allocations_per_step(threads: usize, checked: bool) -> Vec<u64> {
-    let scene = scene(checked);
+    allocations_per_step_of(threads, scene(checked))
+}
+
+fn allocations_per_step_of(threads: usize, scene: cramp::scene::Scene) -> Vec<u64> {
+    let checked = scene.solver.checked;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
         assert_eq!(rayon::current_num_threads(), threads);
@@ -79,4 +88,15 @@ fn the_time_step_does_not_allocate() {
     }
     print_allocation_sites();
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The same with a crack-tip zone (`solver.tip_zone = 1`, src/crack/tip_zone.rs): the
+/// zones of each step reuse the last step's entries.
+#[test]
+fn the_time_step_with_a_tip_zone_does_not_allocate() {
+    trace_if_requested();
+    let counts = allocations_per_step_of(1, scene_with_zone(false, 1.0));
+    eprintln!("tip zone, 1 thread: allocator calls per step {counts:?}");
+    print_allocation_sites();
+    assert_eq!(counts.iter().sum::<u64>(), 0, "{counts:?}");
 }

@@ -190,7 +190,7 @@ pub(crate) fn side_field(present: u8, node_crack: u16, c: usize, above: bool, ge
     let node_above = match (has(0), has(1), has(2)) {
         (true, true, false) => Some(false),
         (true, false, true) => Some(true),
-        (false, true, true) => return Some(across),
+        (false, true, true) | (true, true, true) => return Some(across),
         (false, true, false) => Some(false),
         (false, false, true) => Some(true),
         _ => match geometric_side() {
@@ -268,6 +268,12 @@ pub(crate) fn record_node_cracks<S: crate::simulation::Dimension>(sim: &mut Simu
     }
     Ok(())
 }
+
+/// How near (in cells) the line of a crack a node must be to count as on it for the
+/// crack-tip zone ([`tip_zone::on_line`]): crack points moving in the centre-of-mass
+/// velocity leave a crack laid along a node row by round-off (~10⁻⁶ of a cell in the
+/// static plates), which must not change how the zone treats its nodes.
+const ON_LINE: f64 = 1e-3;
 
 /// Velocity field index for a crossing result (eq. 2): 0 none, 1 above, 2 below.
 #[inline]
@@ -360,8 +366,10 @@ impl Simulation {
         scratch.pair_crack.resize(pairs.field.len(), 0);
         // The crack-tip zones of this step (none unless `solver.tip_zone` is set).
         let z = self.options.tip_zone;
-        let zones = tip_zone::zones(cracks, z, &p.x, &p.lp);
-        let zones = &zones;
+        let walk = 3.0 * grid.h.x.max(grid.h.y);
+        tip_zone::zones(&mut scratch.tip_zones, cracks, z, walk, &p.x, &p.lp);
+        let zones = &scratch.tip_zones;
+        let tol = ON_LINE * grid.h.x.min(grid.h.y);
         // A particle's nodes lie within h + l_p of it per axis: a node has a weight only if
         // the rounded distance fl(x_p − x_n) is below h + l_p, and the rounding is at most
         // a relative 2^−53; the factor 1 + 10⁻⁹ covers it (and the rounding of the bound).
@@ -394,6 +402,18 @@ impl Simulation {
                     field[k] = 0;
                     if z > 0.0 {
                         frac[k] = 1.0;
+                    }
+                    // A node on the crack's line near a tip: shares by the particle's place.
+                    if z > 0.0 {
+                        if let Some((zn, (side, phi))) = zones.iter().filter(|zn| near_zone(zn)).find_map(|zn| tip_zone::on_line(zn, &cracks[zn.crack].points, xp, xn, z, tol).map(|r| (zn, r))) {
+                            if side != Side::None {
+                                field[k] = field_of(side);
+                                frac[k] = phi;
+                                pair_crack[k] = zn.crack as u16;
+                                split = true;
+                            }
+                            continue;
+                        }
                     }
                     for (c, crack) in cracks.iter().enumerate() {
                         let x = geometry::crossing_detail_indexed(&crack.points, &crack.extent, &index[c], xp, xn);
@@ -434,18 +454,19 @@ impl Simulation {
         CheckError::TooManyFields { step: self.step_count, i, j, x: x.x, y: x.y, cracks }
     }
 
-    /// After the Task 1 gather: every node has at most two fields, and a node with two
-    /// fields gets the crack normal of the crack that split it (the normal of the segment
+    /// After the Task 1 gather: every node has at most two fields (three — the two faces
+    /// and the joined material — for a node on a crack's line inside a crack-tip zone,
+    /// [`tip_zone::on_line`]), and a node with two or more fields gets the crack normal of the crack that split it (the normal of the segment
     /// nearest the node, directed from above to below, §2.2).
     pub(crate) fn finish_crack_nodes(&mut self) -> Result<(), CheckError> {
         for &node in &self.nodes.active {
             let i = node as usize;
             let present = self.nodes.present[i];
-            if present == 0b111 {
+            if present == 0b111 && !(self.options.tip_zone > 0.0 && tip_zone::node_on_line(&self.scratch.tip_zones, &self.cracks, self.grid.node_pos(i), ON_LINE * self.grid.h.x.min(self.grid.h.y))) {
                 let c = self.nodes.crack[i] as usize;
                 return Err(self.too_many_fields(i, vec![c]));
             }
-            if present.count_ones() == 2 {
+            if present.count_ones() >= 2 {
                 let c = self.nodes.crack[i] as usize;
                 let reach = 2.0 * self.grid.h.x.max(self.grid.h.y);
                 let points = &self.cracks[c].points;
@@ -547,7 +568,7 @@ impl Simulation {
     /// side. Field 0 holds the material on the node's own side, field 1 (2) the material
     /// above (below) the crack seen across it (Nairn 2003 §2.1). The node's own side
     /// follows from its fields when the crack split it ({0,1}: below; {0,2}: above;
-    /// {1,2}: on the crack) and from the geometry otherwise; a node whose side is
+    /// {1,2}, or {0,1,2} in a crack-tip zone: on the crack) and from the geometry otherwise; a node whose side is
     /// unknown (ahead of a tip, or far) gives field 0.
     pub(crate) fn surface_field(&self, c: usize, points: &[Vector], index: &geometry::SegmentIndex, i: usize, above: bool, reach: f64) -> Option<usize> {
         side_field(self.nodes.present[i], self.nodes.crack[i], c, above, || side_of(points, index, self.grid.node_pos(i), reach))
