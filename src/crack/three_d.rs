@@ -172,7 +172,12 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     let pairs = &mut sim.pairs;
     let scratch = &mut sim.scratch;
     let cracks = &sim.cracks;
+    scratch.crack_node_on3.resize_with(cracks.len(), Default::default);
+    for ((node_on, index), crack) in scratch.crack_node_on3.iter_mut().zip(&scratch.crack_index3).zip(cracks) {
+        node_on.rebuild(grid, index, &crack.view());
+    }
     let index = &scratch.crack_index3;
+    let node_on = &scratch.crack_node_on3;
     scratch.pair_crack.resize(pairs.field.len(), 0);
     // As in 2D: a particle's nodes lie within h + l_p of it per axis (with round-off).
     let reach = (grid.h + p.lp.iter().fold(Vector3::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
@@ -202,35 +207,30 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                     continue;
                 }
                 let view = crack.view();
-                cache.prepare(c, &lo, &hi, nodes, xn, &index[c]);
-                if cache.near.is_empty() {
+                // The two-sided triangles near B (none when no triangle plane can cut B).
+                let near: &[NearTriangle] = if index[c].may_be_two_sided(&lo, &hi) {
+                    cache.prepare(c, &lo, &hi, nodes, xn, &index[c]);
+                    &cache.near
+                } else {
+                    &[]
+                };
+                let holding = &node_on[c];
+                if near.is_empty() && holding.pairs.is_empty() {
                     continue;
                 }
-                // The particle's exact side of each triangle's plane, when asked (2: not yet).
-                cache.op.clear();
-                cache.op.resize(cache.near.len(), 2);
-                let op_of = |op: &mut [i8], j: usize, e: &NearTriangle| {
-                    if op[j] == 2 {
-                        op[j] = match e.axis {
-                            Some((a, level, o)) => o * sign(xp[a] - level),
-                            None => {
-                                let v = view.triangles[e.t as usize].map(|q| &view.points[q as usize]);
-                                side_of_plane(v[0], v[1], v[2], &xp)
-                            }
-                        };
-                    }
-                    op[j]
-                };
                 // Two-sided triangles: the nodes on another side than the particle (all
-                // nodes where their sides are not cached).
+                // nodes where their sides are not cached), with the particle's exact side.
                 let all = (1u32 << xn.len()) - 1;
-                let mut candidates = std::mem::take(&mut cache.candidates);
+                let candidates = &mut cache.candidates;
                 candidates.clear();
-                for (j, e) in cache.near.iter().enumerate() {
-                    if e.one_sided != 0 {
-                        continue;
-                    }
-                    let op = op_of(&mut cache.op, j, e);
+                for e in near {
+                    let op = match e.axis {
+                        Some((a, level, o)) => o * sign(xp[a] - level),
+                        None => {
+                            let v = view.triangles[e.t as usize].map(|q| &view.points[q as usize]);
+                            side_of_plane(v[0], v[1], v[2], &xp)
+                        }
+                    };
                     let other = match op {
                         _ if e.axis.is_none() && op != 0 => all,
                         1 => e.neg | e.zero,
@@ -246,8 +246,9 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                 // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
                 // exactly), accumulated per node (the verdict does not depend on the order).
                 let pending = (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k);
-                let mut accs = [Crossing3::default(); STRIDE];
-                for q in &candidates {
+                // (Default between uses: each pending node's accumulator is taken below.)
+                let accs = &mut cache.accs;
+                for q in candidates.iter() {
                     // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
                     // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
                     let mut m = q.other & pending;
@@ -275,56 +276,23 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         }
                     }
                 }
-                for (k, xn) in xn.iter().enumerate() {
+                for (k, &ni) in nodes.iter().enumerate() {
                     if field[k] != 0 {
                         continue;
                     }
-                    let bit = 1u32 << k;
-                    let acc = &mut accs[k];
-                    // One-sided triangles, in increasing index: the first that holds the
-                    // node in its plane and closed area, with the particle off its plane.
-                    // The lowest such triangle regardless of the particle is cached per node
-                    // (`first`); it is the answer unless the particle lies in its plane, when
-                    // the scan goes on from the next one.
-                    let from = if cache.zero_one_sided & bit == 0 {
-                        cache.near.len()
-                    } else {
-                        if cache.first[k] == FIRST_UNKNOWN {
-                            cache.first[k] = first_inside(&cache.near, &view, k, xn);
-                        }
-                        match cache.first[k] {
-                            FIRST_SCAN => 0,
-                            FIRST_NONE => cache.near.len(),
-                            j0 => {
-                                let e = &cache.near[j0 as usize];
-                                let op = op_of(&mut cache.op, j0 as usize, e);
-                                if op != 0 {
-                                    acc.add_node_on(e.t as usize, op);
-                                    cache.near.len()
-                                } else {
-                                    j0 as usize + 1
-                                }
-                            }
-                        }
-                    };
-                    for j in from..cache.near.len() {
-                        let e = &cache.near[j];
-                        if e.one_sided == 0 || e.zero & bit == 0 || (e.inside_known & bit != 0 && e.inside & bit == 0) {
+                    let acc = &mut std::mem::take(&mut accs[k]);
+                    // One-sided triangles (B on one side of the plane): the lowest that holds
+                    // the node in its plane and closed area with the particle off its plane
+                    // ([`NodeOnIndex`], in increasing triangle index).
+                    for &t in holding.triangles_holding(ni) {
+                        let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
+                        // lo_a ≤ level ≤ hi_a (the node is in B): one-sided iff B touches
+                        // the plane from one side only.
+                        if (lo[a] == level) == (hi[a] == level) {
                             continue;
                         }
-                        let t = e.t;
-                        let op = op_of(&mut cache.op, j, e);
-                        if op == 0 {
-                            continue;
-                        }
-                        let e = &mut cache.near[j];
-                        if e.inside_known & bit == 0 {
-                            e.inside_known |= bit;
-                            if super::crossing3::node_in_triangle(&view, t as usize, &xp, xn) {
-                                e.inside |= bit;
-                            }
-                        }
-                        if e.inside & bit != 0 {
+                        let op = o * sign(xp[a] - level);
+                        if op != 0 {
                             acc.add_node_on(t as usize, op);
                             break;
                         }
@@ -336,7 +304,6 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         split = true;
                     }
                 }
-                cache.candidates = candidates;
             }
             split
         })
@@ -344,101 +311,143 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     super::record_node_cracks(sim).map_err(|(node, cracks)| too_many_fields(sim, node, cracks))
 }
 
-/// Per-thread scratch of Task 1: the triangles near the last box B of a particle and its
-/// nodes (`key`: crack, corners of B, nodes; particles of one cell usually share it), in
-/// increasing index, each with the nodes' sides of its plane; and the current particle's
-/// sides and two-sided candidates.
+/// Per-thread scratch of Task 1: the two-sided triangles near the last box B of a particle
+/// and its nodes (`key`: crack, corners of B, nodes; particles of one cell usually share
+/// it), each with the nodes' sides of its plane; and the current particle's candidates.
+#[derive(Default)]
 struct CellCache {
     key: Option<(usize, Vector3, Vector3)>,
     nodes: Vec<u32>,
-    /// Scratch: the indices of the triangles near B, sorted.
-    ts: Vec<u32>,
     /// Per axis, the distinct coordinates of the nodes, each with the nodes (bits) that
     /// have it (a comparison of a node's coordinate is made once per value).
     coords: [Vec<(f64, u32)>; 3],
     near: Vec<NearTriangle>,
-    /// The nodes in the plane of some one-sided triangle (the others skip that scan).
-    zero_one_sided: u32,
-    /// Per node in `zero_one_sided`: the first one-sided triangle (position in `near`)
-    /// holding it in its plane and closed area ([`first_inside`]; `FIRST_UNKNOWN` until
-    /// asked).
-    first: [u32; D3::MAX_NODES],
-    op: Vec<i8>,
     candidates: Vec<Candidate>,
+    /// Per node position, the crossing verdicts of the current particle's candidates
+    /// (default between particles).
+    accs: [Crossing3; D3::MAX_NODES],
 }
 
-/// A triangle whose bounding box meets B: its index, padded box
-/// ([`TriangleIndex::padded_box`]), the nodes (bits by position in the particle's node
-/// list) above, below and in its plane (of a one-sided triangle only the nodes in its
-/// padded box), whether B lies on one side of the plane (+1, −1)
-/// or not (0), and, per node in the plane, whether it lies in the closed triangle
-/// (`inside`, valid where `inside_known`; filled when first asked).
+/// A two-sided triangle whose bounding box meets B (B not on one side of its plane): its
+/// index, padded box ([`TriangleIndex::padded_box`]), and, for a triangle in an axis plane,
+/// the nodes (bits by position in the particle's node list) above, below and in its plane.
 struct NearTriangle {
     t: u32,
     padded: [Vector3; 2],
     pos: u32,
     neg: u32,
     zero: u32,
-    one_sided: i8,
     /// For a triangle in an axis plane: the axis, the plane's level, and the sign of the
     /// normal's component along the axis (so a point's side is that sign times the sign
     /// of x_axis − level, exactly: the triple product reduces to that component).
     axis: Option<(usize, f64, i8)>,
-    inside_known: u32,
-    inside: u32,
     /// Per axis a, the nodes with x_a ≥ the padded box's lower bound, and ≤ its upper.
     ge: [u32; 3],
     le: [u32; 3],
 }
 
-impl Default for CellCache {
-    fn default() -> Self {
-        CellCache {
-            key: None,
-            nodes: Vec::new(),
-            ts: Vec::new(),
-            coords: Default::default(),
-            near: Vec::new(),
-            zero_one_sided: 0,
-            first: [FIRST_UNKNOWN; D3::MAX_NODES],
-            op: Vec::new(),
-            candidates: Vec::new(),
-        }
-    }
-}
-
-/// [`CellCache::first`]: not yet asked, no such triangle, and "scan them all" (the test
-/// point off the plane could not be formed).
-const FIRST_UNKNOWN: u32 = u32::MAX;
-const FIRST_NONE: u32 = u32::MAX - 1;
-const FIRST_SCAN: u32 = u32::MAX - 2;
-
-/// The first one-sided triangle of `near` (all in axis planes) whose plane holds node k
-/// (`zero` bit) and whose closed area holds it too: [`crossing3::node_in_triangle`] with
-/// the test point x_n + e_a off the plane x_a = level (its answer is the same for every
-/// point off the plane, so for every particle of the box).
+/// Rule 3 for the triangles in axis planes, per grid node: every (node, triangle) with the
+/// node in the triangle's plane and closed area, sorted (so each node's triangles are in
+/// increasing index). Built when the crack's index was rebuilt (`generation`).
+///
+/// Why Task 1 may take a one-sided triangle's verdicts from here: for a box B of a
+/// particle and its nodes and a triangle T in the axis plane x_a = level whose bounding box
+/// meets B, B on one side of the plane (lo_a = level < hi_a or lo_a < level = hi_a) puts
+/// every point of B, the particle too, on that side or in the plane, so the segment from
+/// the particle to a node of B never crosses T properly (rule 2 needs strictly opposite
+/// sides) and T's only possible verdict is rule 3's: the node in the plane and in the
+/// closed triangle, the particle off the plane, with the particle's side. Such a node lies
+/// in T's bounding box, so T meets B whatever B is, and [`crossing3::node_in_triangle`]
+/// does not depend on the particle (any point off the plane gives its answer), so the
+/// pairs can be listed once per crack position for all boxes. Of a node's rule-3 verdicts
+/// only the lowest triangle counts ([`Crossing3::add_node_on`]), so the scan stops at the
+/// first one-sided triangle with the particle off its plane.
 ///
 /// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
-fn first_inside(near: &[NearTriangle], view: &SurfaceView, k: usize, xn: &Vector3) -> u32 {
-    for (j, e) in near.iter().enumerate() {
-        if e.one_sided == 0 || e.zero & (1 << k) == 0 {
-            continue;
+#[derive(Clone, Debug, Default)]
+pub struct NodeOnIndex {
+    pairs: Vec<(u32, u32)>,
+    generation: Option<u64>,
+}
+
+impl NodeOnIndex {
+    /// List the pairs for the crack of `view` as `index` holds it, on `grid` (a no-op when
+    /// the index has not been rebuilt since).
+    fn rebuild(&mut self, grid: &crate::grid::Grid3, index: &TriangleIndex, view: &SurfaceView) {
+        if self.generation == Some(index.generation()) {
+            return;
         }
-        let Some((a, _, _)) = e.axis else { return FIRST_SCAN };
-        let mut p = *xn;
-        p[a] += 1.0;
-        if p[a] == xn[a] || j as u32 >= FIRST_SCAN {
-            return FIRST_SCAN;
+        self.generation = Some(index.generation());
+        self.pairs.clear();
+        // Node coordinates along axis c (as `node_pos` forms them: monotone in i).
+        let coord = |c: usize, i: usize| grid.origin[c] + i as f64 * grid.h[c];
+        for t in 0..view.triangles.len() {
+            let Some((a, level, _)) = index.axis_plane(t) else { continue };
+            let [tl, th] = index.aabb(t);
+            // Per axis, the node indices whose coordinate lies in [tl, th] (level along a),
+            // searched one index beyond the rounded quotients and tested exactly.
+            let mut range = [(0usize, 0usize); 3];
+            let mut empty = false;
+            for c in 0..3 {
+                let (l, h) = if c == a { (level, level) } else { (tl[c], th[c]) };
+                let q = |x: f64| (x - grid.origin[c]) / grid.h[c];
+                let (f0, f1) = (q(l).floor() - 1.0, q(h).ceil() + 1.0);
+                if !(f1 >= 0.0 && f0 <= grid.n[c] as f64) {
+                    empty = true;
+                    break;
+                }
+                let (mut i0, mut i1) = (f0.max(0.0) as usize, f1.min(grid.n[c] as f64) as usize);
+                while i0 <= i1 && coord(c, i0) < l {
+                    i0 += 1;
+                }
+                while i1 >= i0 && coord(c, i1) > h {
+                    if i1 == 0 {
+                        empty = true;
+                        break;
+                    }
+                    i1 -= 1;
+                }
+                if empty || i0 > i1 {
+                    empty = true;
+                    break;
+                }
+                range[c] = (i0, i1);
+            }
+            if empty {
+                continue;
+            }
+            for iz in range[2].0..=range[2].1 {
+                for iy in range[1].0..=range[1].1 {
+                    for ix in range[0].0..=range[0].1 {
+                        let x = Vector3::new(coord(0, ix), coord(1, iy), coord(2, iz));
+                        debug_assert_eq!(x[a], level);
+                        // A test point off the plane x_a = level.
+                        let mut p = x;
+                        p[a] += 1.0;
+                        if p[a] == x[a] {
+                            p[a] = x[a] * 2.0;
+                        }
+                        if super::crossing3::node_in_triangle(view, t, &p, &x) {
+                            self.pairs.push((grid.node_index(ix, iy, iz) as u32, t as u32));
+                        }
+                    }
+                }
+            }
         }
-        if super::crossing3::node_in_triangle(view, e.t as usize, &p, xn) {
-            return j as u32;
-        }
+        self.pairs.sort_unstable();
     }
-    FIRST_NONE
+
+    /// The triangles holding node i (in its plane and closed area), in increasing index.
+    #[inline]
+    fn triangles_holding(&self, i: u32) -> impl Iterator<Item = &u32> + '_ {
+        let start = self.pairs.partition_point(|&(n, _)| n < i);
+        self.pairs[start..].iter().take_while(move |&&(n, _)| n == i).map(|(_, t)| t)
+    }
 }
 
 impl CellCache {
-    /// Make the cache hold B = [lo, hi] of crack c with these nodes.
+    /// Make the cache hold the two-sided triangles near B = [lo, hi] of crack c with these
+    /// nodes (the one-sided ones are [`NodeOnIndex`]'s).
     #[allow(clippy::too_many_arguments)]
     fn prepare(&mut self, c: usize, lo: &Vector3, hi: &Vector3, nodes: &[u32], xn: &[Vector3], index: &TriangleIndex) {
         if self.key == Some((c, *lo, *hi)) && self.nodes == nodes {
@@ -458,51 +467,19 @@ impl CellCache {
             }
         }
         self.near.clear();
-        let ts = &mut self.ts;
-        ts.clear();
-        index.near(lo, hi, |t| ts.push(t as u32));
-        ts.sort_unstable();
-        self.near.extend(ts.iter().map(|&t| NearTriangle { t, padded: index.padded_box(t as usize), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0, ge: [0; 3], le: [0; 3] }));
-        self.zero_one_sided = 0;
-        self.first = [FIRST_UNKNOWN; D3::MAX_NODES];
-        for e in self.near.iter_mut() {
-            let [pl, ph] = &e.padded;
+        let (near, coords) = (&mut self.near, &self.coords);
+        index.near(lo, hi, |t| {
+            let mut e = NearTriangle { t: t as u32, padded: index.padded_box(t), pos: 0, neg: 0, zero: 0, axis: None, ge: [0; 3], le: [0; 3] };
             // A triangle in an axis plane x_a = level is classified here (exactly and
             // cheaply); the others take the general test.
-            if let Some((a, level, o)) = index.axis_plane(e.t as usize) {
-                e.axis = Some((a, level, o));
-                // Every point x of B has the side o · sign(x_a − level).
-                e.one_sided = if lo[a] >= level && hi[a] > level {
-                    o
-                } else if hi[a] <= level && lo[a] < level {
-                    -o
-                } else {
-                    0
-                };
-                if e.one_sided != 0 {
-                    // Only a node in the plane and in the closed triangle matters (its `zero`
-                    // bit; `pos` and `neg` are not read), so only the nodes in the plane and
-                    // in the padded box are kept.
-                    let in_plane = self.coords[a].iter().filter(|&&(x, _)| sign(x - level) == 0).fold(0, |m, &(_, b)| m | b);
-                    // (Along a, level ∓ pad hold level.)
-                    let mut zero = in_plane;
-                    for c in (0..3).filter(|&c| c != a) {
-                        if zero == 0 {
-                            break;
-                        }
-                        let mut in_box = 0;
-                        for &(x, bits) in &self.coords[c] {
-                            if x >= pl[c] && x <= ph[c] {
-                                in_box |= bits;
-                            }
-                        }
-                        zero &= in_box;
-                    }
-                    e.zero = zero;
-                    self.zero_one_sided |= zero;
-                    continue;
+            if let Some((a, level, o)) = index.axis_plane(t) {
+                // Every point x of B has the side o · sign(x_a − level): B on one side
+                // leaves only rule 3, [`NodeOnIndex`]'s.
+                if (lo[a] >= level && hi[a] > level) || (hi[a] <= level && lo[a] < level) {
+                    return;
                 }
-                for &(x, bits) in &self.coords[a] {
+                e.axis = Some((a, level, o));
+                for &(x, bits) in &coords[a] {
                     match o * sign(x - level) {
                         1 => e.pos |= bits,
                         -1 => e.neg |= bits,
@@ -510,9 +487,10 @@ impl CellCache {
                     }
                 }
             }
-            // A two-sided triangle: per axis, the nodes at or above the padded box's lower
-            // bound and at or below its upper (for the candidates' segment-box test).
-            for (c, vals) in self.coords.iter().enumerate() {
+            // Per axis, the nodes at or above the padded box's lower bound and at or below
+            // its upper (for the candidates' segment-box test).
+            let [pl, ph] = e.padded;
+            for (c, vals) in coords.iter().enumerate() {
                 for &(x, bits) in vals {
                     if x >= pl[c] {
                         e.ge[c] |= bits;
@@ -522,7 +500,8 @@ impl CellCache {
                     }
                 }
             }
-        }
+            near.push(e);
+        });
     }
 }
 
@@ -615,12 +594,14 @@ fn centre_of_mass_velocity(sim: &Simulation<D3>, i: usize) -> Option<Vector3> {
 
 /// Velocity at x from the nodes' fields chosen by `field(i)`, with the linear shape
 /// functions renormalised over the nodes that have one (001's N*); zero if none has.
-fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Option<Vector3>) -> Vector3 {
+#[inline]
+fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: impl Fn(usize) -> Option<Vector3>) -> Vector3 {
     let mut node = [0u32; D3::MAX_NODES];
     let mut s = [0.0; D3::MAX_NODES];
     let mut g = [Vector3::zeros(); D3::MAX_NODES];
     let n = D3::weights_into(&sim.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s, &mut g);
-    fn sums<A: Accumulator<4>>(n: usize, node: &[u32], s: &[f64], field: &dyn Fn(usize) -> Option<Vector3>) -> Option<[f64; 4]> {
+    #[inline(always)]
+    fn sums<A: Accumulator<4>>(n: usize, node: &[u32], s: &[f64], field: &impl Fn(usize) -> Option<Vector3>) -> Option<[f64; 4]> {
         let mut a = A::default();
         for k in 0..n {
             if let Some(v) = field(node[k] as usize) {
@@ -629,7 +610,7 @@ fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Op
         }
         a.certified()
     }
-    let [sx, sy, sz, ws] = sums::<FastSum<4>>(n, &node, &s, field).or_else(|| sums::<ExactSums<4>>(n, &node, &s, field)).expect("exact sums certify");
+    let [sx, sy, sz, ws] = sums::<FastSum<4>>(n, &node, &s, &field).or_else(|| sums::<ExactSums<4>>(n, &node, &s, &field)).expect("exact sums certify");
     if ws > 0.0 {
         Vector3::new(sx, sy, sz) / ws
     } else {
@@ -637,81 +618,91 @@ fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Op
     }
 }
 
+/// A node that Task 7's points touch: its index, whether an upper- or lower-surface point
+/// touches it, and the velocities the three surfaces read there (the above side's field,
+/// the below side's, and the centre of mass; None where the node offers none), formed once
+/// per node and step instead of once per point (the same operations on the same values).
+#[derive(Clone, Copy, Debug)]
+pub struct Touched3 {
+    i: u32,
+    surface: bool,
+    v: [Option<Vector3>; 3],
+}
+
 /// Task 7 in 3D: every crack particle moves in the centre-of-mass velocity of its nodes
 /// (eq. 32), each crack-surface point in the velocity field of its own side (001 eqs.
 /// 11–12; [`super::side_field`] chooses the field, as in 2D).
 fn task7_move_cracks(sim: &mut Simulation<D3>) {
-    /// `node_side` marks: a node no crack point touches, and one touched (side pending).
-    const UNSEEN: i8 = i8::MIN;
-    const SEEN: i8 = 2;
+    /// `slot` mark of a node no crack point touches.
+    const UNSEEN: u32 = u32::MAX;
     let dt = sim.options.dt;
     let reach = 2.0 * sim.grid.h.max();
     rebuild_indices(sim);
     let mut cracks = std::mem::take(&mut sim.cracks);
-    let mut mark = std::mem::take(&mut sim.scratch.node_side3);
+    let mut slot = std::mem::take(&mut sim.scratch.node_slot3);
     let mut touched = std::mem::take(&mut sim.scratch.touched3);
     let num_nodes = sim.nodes.present.len();
-    if mark.len() != num_nodes {
-        mark.clear();
-        mark.resize(num_nodes, UNSEEN);
+    if slot.len() != num_nodes {
+        slot.clear();
+        slot.resize(num_nodes, UNSEEN);
     }
     let this: &Simulation<D3> = sim;
     const POINT_CHUNK: usize = 32;
     for (c, crack) in cracks.iter_mut().enumerate() {
         let index = &this.scratch.crack_index3[c];
-        // The geometric side of every node the crack's surface points touch and whose side
-        // [`super::side_field`] asks for (only nodes whose fields do not tell the side: it
-        // asks whenever it calls its closure, whichever surface), once per step, kept per
-        // node in `mark` (0 for the touched nodes it does not ask about, reset after).
+        // The nodes the crack's points touch, each once (`slot`: its position in `touched`).
         touched.clear();
         let mut node = [0u32; D3::MAX_NODES];
         let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
-        for x in crack.above.iter().chain(&crack.below) {
+        let surface_points = crack.above.len() + crack.below.len();
+        for (k, x) in crack.above.iter().chain(&crack.below).chain(&crack.surface.vertices).enumerate() {
             let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
             for &i in &node[..n] {
-                if mark[i as usize] == UNSEEN {
-                    mark[i as usize] = SEEN;
-                    touched.push((i, 0));
+                let j = &mut slot[i as usize];
+                if *j == UNSEEN {
+                    *j = touched.len() as u32;
+                    touched.push(Touched3 { i, surface: false, v: [None; 3] });
                 }
+                touched[*j as usize].surface |= k < surface_points;
             }
         }
         {
             let shape: &Crack3 = &*crack;
-            touched.par_iter_mut().for_each(|(i, side)| {
-                let mut asks = false;
-                super::side_field(this.nodes.present[*i as usize], this.nodes.crack[*i as usize], c, true, || {
-                    asks = true;
-                    0
-                });
-                if asks {
-                    *side = side_of(shape, index, &this.grid.node_pos(*i as usize), reach);
+            let nodes = &this.nodes;
+            touched.par_iter_mut().for_each(|t| {
+                let i = t.i as usize;
+                let (present, node_crack) = (nodes.present[i], nodes.crack[i]);
+                let vel = |f: usize| nodes.fields[f].mom[i] / nodes.fields[f].mass[i];
+                if t.surface {
+                    // The node's geometric side, only where [`super::side_field`] asks for
+                    // it (nodes whose fields do not tell the side; it asks whenever it calls
+                    // its closure, whichever surface).
+                    let mut asks = false;
+                    super::side_field(present, node_crack, c, true, || {
+                        asks = true;
+                        0
+                    });
+                    let side = if asks { side_of(shape, index, &this.grid.node_pos(i), reach) } else { 0 };
+                    t.v[0] = super::side_field(present, node_crack, c, true, || side).map(vel);
+                    t.v[1] = super::side_field(present, node_crack, c, false, || side).map(vel);
                 }
+                t.v[2] = centre_of_mass_velocity(this, i);
             });
         }
-        for &(i, side) in &touched {
-            mark[i as usize] = side;
-        }
         {
-            let mark = &mark;
-            let node_side = |i: usize| if mark[i] == UNSEEN { 0 } else { mark[i] };
-            let side = |i: usize, above: bool| {
-                let nodes = &this.nodes;
-                super::side_field(nodes.present[i], nodes.crack[i], c, above, || node_side(i)).map(|f| nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
-            };
-            // Each surface point moves in its own side's fields (the nodes' fields and sides
+            let (slot, touched) = (&slot, &touched);
+            // Each point moves in its own surface's velocities (the nodes' fields and sides
             // were fixed above, so the points move independently, in place).
-            for (surface, is_above) in [(&mut crack.above, true), (&mut crack.below, false)] {
-                surface.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &|i| side(i, is_above)) * dt);
+            for (points, which) in [(&mut crack.above, 0), (&mut crack.below, 1), (&mut crack.surface.vertices, 2)] {
+                points.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, |i| touched[slot[i] as usize].v[which]) * dt);
             }
         }
-        for &(i, _) in &touched {
-            mark[i as usize] = UNSEEN;
+        for t in &touched {
+            slot[t.i as usize] = UNSEEN;
         }
-        let cm = |i: usize| centre_of_mass_velocity(this, i);
-        crack.surface.vertices.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, &cm) * dt);
     }
     sim.cracks = cracks;
-    sim.scratch.node_side3 = mark;
+    sim.scratch.node_slot3 = slot;
     sim.scratch.touched3 = touched;
 }
 
