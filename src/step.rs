@@ -1044,6 +1044,8 @@ pub struct Scratch<S: Space> {
     /// no point of the crack being moved touches it), and the touched nodes.
     pub node_slot3: Vec<u32>,
     pub touched3: Vec<crate::crack::three_d::Touched3>,
+    /// Task 7 with cracks (3D): the linear weights of each point of the crack being moved.
+    pub weights3: Vec<crate::crack::three_d::PointWeights3>,
     pub pair_crack: Vec<u16>,
     pub split: Vec<bool>,
 }
@@ -1074,6 +1076,7 @@ impl<S: Space> Default for Scratch<S> {
             crack_node_on3: Vec::new(),
             node_slot3: Vec::new(),
             touched3: Vec::new(),
+            weights3: Vec::new(),
             pair_crack: Vec::new(),
             split: Vec::new(),
         }

@@ -186,21 +186,29 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
         .into_par_iter()
         .with_min_len(crate::step::PARTICLE_CHUNK)
         .enumerate()
-        .map_init(CellCache::default, |cache: &mut CellCache, (i, (field, pair_crack))| {
-            field.fill(0);
+        .map_init(<(CellCache, NodeBox)>::default, |(cache, nb), (i, (field, pair_crack))| {
+            match <&mut [u8; STRIDE]>::try_from(&mut *field) {
+                Ok(f) => *f = [0; STRIDE],
+                Err(_) => field.fill(0),
+            }
             let xp = p.x[i];
             if !index.iter().any(|index| index.box_meets_extent(&(xp - reach), &(xp + reach))) {
                 return false;
             }
             let nodes = &node[i * STRIDE..i * STRIDE + count[i] as usize];
-            let mut xn = [Vector3::zeros(); STRIDE];
-            let (mut lo, mut hi) = (xp, xp);
-            for (k, &ni) in nodes.iter().enumerate() {
-                xn[k] = grid.node_pos(ni as usize);
-                lo = lo.inf(&xn[k]);
-                hi = hi.sup(&xn[k]);
+            // The nodes' positions and box (kept from the last particle with the same nodes).
+            if nb.nodes != nodes {
+                nb.nodes.clear();
+                nb.nodes.extend_from_slice(nodes);
+                (nb.lo, nb.hi) = (Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY));
+                for (k, &ni) in nodes.iter().enumerate() {
+                    nb.x[k] = grid.node_pos(ni as usize);
+                    nb.lo = nb.lo.inf(&nb.x[k]);
+                    nb.hi = nb.hi.sup(&nb.x[k]);
+                }
             }
-            let xn = &xn[..nodes.len()];
+            let (lo, hi) = (nb.lo.inf(&xp), nb.hi.sup(&xp));
+            let xn = &nb.x[..nodes.len()];
             let mut split = false;
             for (c, crack) in cracks.iter().enumerate() {
                 if !index[c].box_meets_extent(&lo, &hi) {
@@ -246,8 +254,9 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                 // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
                 // exactly), accumulated per node (the verdict does not depend on the order).
                 let pending = (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k);
-                // (Default between uses: each pending node's accumulator is taken below.)
+                // (Default between uses: each written accumulator is taken below.)
                 let accs = &mut cache.accs;
+                let mut written = 0u32;
                 for q in candidates.iter() {
                     // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
                     // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
@@ -266,6 +275,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         let xn = &xn[k];
                         let seg = [xp.inf(xn), xp.sup(xn)];
                         if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
+                            written |= 1 << k;
                             if q.sides_known {
                                 let bit = 1u32 << k;
                                 let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
@@ -280,24 +290,39 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                     if field[k] != 0 {
                         continue;
                     }
-                    let acc = &mut std::mem::take(&mut accs[k]);
                     // One-sided triangles (B on one side of the plane): the lowest that holds
                     // the node in its plane and closed area with the particle off its plane
                     // ([`NodeOnIndex`], in increasing triangle index).
-                    for &t in holding.triangles_holding(ni) {
-                        let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
-                        // lo_a ≤ level ≤ hi_a (the node is in B): one-sided iff B touches
-                        // the plane from one side only.
-                        if (lo[a] == level) == (hi[a] == level) {
-                            continue;
-                        }
-                        let op = o * sign(xp[a] - level);
-                        if op != 0 {
-                            acc.add_node_on(t as usize, op);
-                            break;
+                    let mut own = None;
+                    if holding.holds(ni) {
+                        for &t in holding.triangles_holding(ni) {
+                            let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
+                            // lo_a ≤ level ≤ hi_a (the node is in B): one-sided iff B touches
+                            // the plane from one side only.
+                            if (lo[a] == level) == (hi[a] == level) {
+                                continue;
+                            }
+                            let op = o * sign(xp[a] - level);
+                            if op != 0 {
+                                own = Some((t as usize, op));
+                                break;
+                            }
                         }
                     }
-                    let side = acc.side();
+                    let side = if written & 1 << k != 0 {
+                        let mut acc = std::mem::take(&mut accs[k]);
+                        if let Some((t, op)) = own {
+                            acc.add_node_on(t, op);
+                        }
+                        acc.side()
+                    } else {
+                        // Rule 4 with the node on the surface and no proper crossing.
+                        match own {
+                            Some((_, 1)) => Side3::Above,
+                            Some(_) => Side3::Below,
+                            None => Side3::None,
+                        }
+                    };
                     if side != Side3::None {
                         field[k] = if side == Side3::Above { 1 } else { 2 };
                         pair_crack[k] = c as u16;
@@ -367,7 +392,23 @@ struct NearTriangle {
 #[derive(Clone, Debug, Default)]
 pub struct NodeOnIndex {
     pairs: Vec<(u32, u32)>,
+    /// Per grid node (bit i of word i / 64), whether it is in `pairs`.
+    holds: Vec<u64>,
     generation: Option<u64>,
+}
+
+/// Per-thread scratch of Task 1: the last particle's nodes, their positions and box.
+struct NodeBox {
+    nodes: Vec<u32>,
+    x: [Vector3; D3::MAX_NODES],
+    lo: Vector3,
+    hi: Vector3,
+}
+
+impl Default for NodeBox {
+    fn default() -> Self {
+        NodeBox { nodes: Vec::new(), x: [Vector3::zeros(); D3::MAX_NODES], lo: Vector3::repeat(f64::INFINITY), hi: Vector3::repeat(f64::NEG_INFINITY) }
+    }
 }
 
 impl NodeOnIndex {
@@ -378,6 +419,10 @@ impl NodeOnIndex {
             return;
         }
         self.generation = Some(index.generation());
+        for &(i, _) in &self.pairs {
+            self.holds[i as usize / 64] = 0;
+        }
+        self.holds.resize(crate::dim::GridGeometry::num_nodes(grid) / 64 + 1, 0);
         self.pairs.clear();
         // Node coordinates along axis c (as `node_pos` forms them: monotone in i).
         let coord = |c: usize, i: usize| grid.origin[c] + i as f64 * grid.h[c];
@@ -385,13 +430,14 @@ impl NodeOnIndex {
             let Some((a, level, _)) = index.axis_plane(t) else { continue };
             let [tl, th] = index.aabb(t);
             // Per axis, the node indices whose coordinate lies in [tl, th] (level along a),
-            // searched one index beyond the rounded quotients and tested exactly.
+            // searched two indices beyond the rounded quotients and tested exactly.
             let mut range = [(0usize, 0usize); 3];
             let mut empty = false;
             for c in 0..3 {
                 let (l, h) = if c == a { (level, level) } else { (tl[c], th[c]) };
                 let q = |x: f64| (x - grid.origin[c]) / grid.h[c];
-                let (f0, f1) = (q(l).floor() - 1.0, q(h).ceil() + 1.0);
+                // (Two indices of margin; `as` truncates the non-negative values.)
+                let (f0, f1) = (q(l) - 2.0, q(h) + 2.0);
                 if !(f1 >= 0.0 && f0 <= grid.n[c] as f64) {
                     empty = true;
                     break;
@@ -435,6 +481,15 @@ impl NodeOnIndex {
             }
         }
         self.pairs.sort_unstable();
+        for &(i, _) in &self.pairs {
+            self.holds[i as usize / 64] |= 1 << (i % 64);
+        }
+    }
+
+    /// Whether node i lies on some triangle of `pairs`.
+    #[inline]
+    fn holds(&self, i: u32) -> bool {
+        self.holds.get(i as usize / 64).is_some_and(|w| w >> (i % 64) & 1 != 0)
     }
 
     /// The triangles holding node i (in its plane and closed area), in increasing index.
@@ -600,23 +655,40 @@ fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: impl Fn(usize) -> Op
     let mut s = [0.0; D3::MAX_NODES];
     let mut g = [Vector3::zeros(); D3::MAX_NODES];
     let n = D3::weights_into(&sim.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s, &mut g);
+    weighted_velocity(&s[..n], |k| field(node[k] as usize))
+}
+
+/// [`field_velocity`] from the weights `s` of its nodes (`field(k)` for the k-th).
+#[inline(always)]
+fn weighted_velocity(s: &[f64], field: impl Fn(usize) -> Option<Vector3>) -> Vector3 {
     #[inline(always)]
-    fn sums<A: Accumulator<4>>(n: usize, node: &[u32], s: &[f64], field: &impl Fn(usize) -> Option<Vector3>) -> Option<[f64; 4]> {
+    fn sums<A: Accumulator<4>>(s: &[f64], field: &impl Fn(usize) -> Option<Vector3>) -> Option<[f64; 4]> {
         let mut a = A::default();
-        for k in 0..n {
-            if let Some(v) = field(node[k] as usize) {
-                a.add([s[k] * v.x, s[k] * v.y, s[k] * v.z, s[k]]);
+        for (k, &s) in s.iter().enumerate() {
+            if let Some(v) = field(k) {
+                a.add([s * v.x, s * v.y, s * v.z, s]);
             }
         }
         a.certified()
     }
-    let [sx, sy, sz, ws] = sums::<FastSum<4>>(n, &node, &s, &field).or_else(|| sums::<ExactSums<4>>(n, &node, &s, &field)).expect("exact sums certify");
+    let [sx, sy, sz, ws] = sums::<FastSum<4>>(s, &field).or_else(|| sums::<ExactSums<4>>(s, &field)).expect("exact sums certify");
     if ws > 0.0 {
         Vector3::new(sx, sy, sz) / ws
     } else {
         Vector3::zeros()
     }
 }
+
+/// The linear weights of one of Task 7's points: its nodes' positions in the touched list
+/// and their weights (`n` = [`WEIGHTS_UNKNOWN`] when it has more than 8 nodes: recomputed).
+#[derive(Clone, Copy, Debug)]
+pub struct PointWeights3 {
+    n: u8,
+    slot: [u32; 8],
+    s: [f64; 8],
+}
+
+const WEIGHTS_UNKNOWN: u8 = u8::MAX;
 
 /// A node that Task 7's points touch: its index, whether an upper- or lower-surface point
 /// touches it, and the velocities the three surfaces read there (the above side's field,
@@ -641,6 +713,7 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
     let mut cracks = std::mem::take(&mut sim.cracks);
     let mut slot = std::mem::take(&mut sim.scratch.node_slot3);
     let mut touched = std::mem::take(&mut sim.scratch.touched3);
+    let mut weights = std::mem::take(&mut sim.scratch.weights3);
     let num_nodes = sim.nodes.present.len();
     if slot.len() != num_nodes {
         slot.clear();
@@ -651,20 +724,27 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
     for (c, crack) in cracks.iter_mut().enumerate() {
         let index = &this.scratch.crack_index3[c];
         // The nodes the crack's points touch, each once (`slot`: its position in `touched`).
+        // Each point's weights are kept for its motion below.
         touched.clear();
+        weights.clear();
         let mut node = [0u32; D3::MAX_NODES];
-        let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
+        let (mut s27, mut g27) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
         let surface_points = crack.above.len() + crack.below.len();
         for (k, x) in crack.above.iter().chain(&crack.below).chain(&crack.surface.vertices).enumerate() {
-            let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
-            for &i in &node[..n] {
+            let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s27, &mut g27);
+            let mut w = PointWeights3 { n: if n <= 8 { n as u8 } else { WEIGHTS_UNKNOWN }, slot: [0; 8], s: [0.0; 8] };
+            for (m, &i) in node[..n].iter().enumerate() {
                 let j = &mut slot[i as usize];
                 if *j == UNSEEN {
                     *j = touched.len() as u32;
                     touched.push(Touched3 { i, surface: false, v: [None; 3] });
                 }
                 touched[*j as usize].surface |= k < surface_points;
+                if m < 8 {
+                    (w.slot[m], w.s[m]) = (*j, s27[m]);
+                }
             }
+            weights.push(w);
         }
         {
             let shape: &Crack3 = &*crack;
@@ -693,8 +773,17 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
             let (slot, touched) = (&slot, &touched);
             // Each point moves in its own surface's velocities (the nodes' fields and sides
             // were fixed above, so the points move independently, in place).
-            for (points, which) in [(&mut crack.above, 0), (&mut crack.below, 1), (&mut crack.surface.vertices, 2)] {
-                points.par_iter_mut().with_min_len(POINT_CHUNK).for_each(|x| *x += field_velocity(this, x, |i| touched[slot[i] as usize].v[which]) * dt);
+            let (na, nb) = (crack.above.len(), crack.below.len());
+            let (wa, rest) = weights.split_at(na);
+            let (wb, wv) = rest.split_at(nb);
+            for (points, w, which) in [(&mut crack.above, wa, 0), (&mut crack.below, wb, 1), (&mut crack.surface.vertices, wv, 2)] {
+                points.par_iter_mut().zip(w).with_min_len(POINT_CHUNK).for_each(|(x, w)| {
+                    *x += if w.n == WEIGHTS_UNKNOWN {
+                        field_velocity(this, x, |i| touched[slot[i] as usize].v[which])
+                    } else {
+                        weighted_velocity(&w.s[..w.n as usize], |k| touched[w.slot[k] as usize].v[which])
+                    } * dt
+                });
             }
         }
         for t in &touched {
@@ -704,6 +793,7 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
     sim.cracks = cracks;
     sim.scratch.node_slot3 = slot;
     sim.scratch.touched3 = touched;
+    sim.scratch.weights3 = weights;
 }
 
 /// Checked mode: no particle near a crack changes side (the 2D check with triangles). A
