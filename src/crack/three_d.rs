@@ -223,7 +223,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                     &[]
                 };
                 let holding = &node_on[c];
-                if near.is_empty() && holding.pairs.is_empty() {
+                if near.is_empty() && holding.is_empty() {
                     continue;
                 }
                 // Two-sided triangles: the nodes on another side than the particle (all
@@ -253,7 +253,7 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                 // from the particle meets its padded box (per axis from the box's distinct
                 // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
                 // exactly), accumulated per node (the verdict does not depend on the order).
-                let pending = (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k);
+                let pending = if candidates.is_empty() { 0 } else { (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k) };
                 // (Default between uses: each written accumulator is taken below.)
                 let accs = &mut cache.accs;
                 let mut written = 0u32;
@@ -294,8 +294,8 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                     // the node in its plane and closed area with the particle off its plane
                     // ([`NodeOnIndex`], in increasing triangle index).
                     let mut own = None;
-                    if holding.holds(ni) {
-                        for &t in holding.triangles_holding(ni) {
+                    {
+                        for t in holding.triangles_holding(ni) {
                             let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
                             // lo_a ≤ level ≤ hi_a (the node is in B): one-sided iff B touches
                             // the plane from one side only.
@@ -392,8 +392,12 @@ struct NearTriangle {
 #[derive(Clone, Debug, Default)]
 pub struct NodeOnIndex {
     pairs: Vec<(u32, u32)>,
-    /// Per grid node (bit i of word i / 64), whether it is in `pairs`.
+    /// Per grid node (bit i of word i / 64), whether it is in `pairs`; per word, how many
+    /// set bits the words before it hold; and where each node's run of `pairs` starts (by
+    /// the node's rank among the set bits; one more entry, the end).
     holds: Vec<u64>,
+    rank: Vec<u32>,
+    starts: Vec<u32>,
     generation: Option<u64>,
 }
 
@@ -481,22 +485,40 @@ impl NodeOnIndex {
             }
         }
         self.pairs.sort_unstable();
-        for &(i, _) in &self.pairs {
+        self.starts.clear();
+        for (j, &(i, _)) in self.pairs.iter().enumerate() {
+            if j == 0 || self.pairs[j - 1].0 != i {
+                self.starts.push(j as u32);
+            }
             self.holds[i as usize / 64] |= 1 << (i % 64);
+        }
+        self.starts.push(self.pairs.len() as u32);
+        self.rank.clear();
+        let mut r = 0;
+        for w in &self.holds {
+            self.rank.push(r);
+            r += w.count_ones();
         }
     }
 
-    /// Whether node i lies on some triangle of `pairs`.
+    /// Whether the list is empty.
     #[inline]
-    fn holds(&self, i: u32) -> bool {
-        self.holds.get(i as usize / 64).is_some_and(|w| w >> (i % 64) & 1 != 0)
+    fn is_empty(&self) -> bool {
+        self.pairs.is_empty()
     }
 
     /// The triangles holding node i (in its plane and closed area), in increasing index.
     #[inline]
-    fn triangles_holding(&self, i: u32) -> impl Iterator<Item = &u32> + '_ {
-        let start = self.pairs.partition_point(|&(n, _)| n < i);
-        self.pairs[start..].iter().take_while(move |&&(n, _)| n == i).map(|(_, t)| t)
+    fn triangles_holding(&self, i: u32) -> impl Iterator<Item = u32> + '_ {
+        let (w, b) = (i as usize / 64, i % 64);
+        let run = match self.holds.get(w) {
+            Some(&word) if word >> b & 1 != 0 => {
+                let r = (self.rank[w] + (word & ((1u64 << b) - 1)).count_ones()) as usize;
+                &self.pairs[self.starts[r] as usize..self.starts[r + 1] as usize]
+            }
+            _ => &[],
+        };
+        run.iter().map(|&(_, t)| t)
     }
 }
 
@@ -727,11 +749,11 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
         // Each point's weights are kept for its motion below.
         touched.clear();
         weights.clear();
-        let mut node = [0u32; D3::MAX_NODES];
-        let (mut s27, mut g27) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
+        let (mut node, mut s27) = ([0u32; D3::MAX_NODES], [0.0; D3::MAX_NODES]);
         let surface_points = crack.above.len() + crack.below.len();
         for (k, x) in crack.above.iter().chain(&crack.below).chain(&crack.surface.vertices).enumerate() {
-            let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s27, &mut g27);
+            // (`field_velocity`'s nodes and weights.)
+            let n = crate::shape::linear_weights_3d(&this.grid, x, &mut node, &mut s27);
             let mut w = PointWeights3 { n: if n <= 8 { n as u8 } else { WEIGHTS_UNKNOWN }, slot: [0; 8], s: [0.0; 8] };
             for (m, &i) in node[..n].iter().enumerate() {
                 let j = &mut slot[i as usize];
