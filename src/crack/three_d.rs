@@ -182,157 +182,164 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     // As in 2D: a particle's nodes lie within h + l_p of it per axis (with round-off).
     let reach = (grid.h + p.lp.iter().fold(Vector3::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
     let (count, node) = (&pairs.count, &pairs.node);
-    (pairs.field.par_chunks_mut(STRIDE), scratch.pair_crack.par_chunks_mut(STRIDE))
-        .into_par_iter()
-        .with_min_len(crate::step::PARTICLE_CHUNK)
-        .enumerate()
-        .map_init(<(CellCache, NodeBox)>::default, |(cache, nb), (i, (field, pair_crack))| {
-            match <&mut [u8; STRIDE]>::try_from(&mut *field) {
-                Ok(f) => *f = [0; STRIDE],
-                Err(_) => field.fill(0),
+    // One particle: its pairs' fields and cracks, and whether any pair is split.
+    let one = |cache: &mut CellCache, nb: &mut NodeBox, i: usize, field: &mut [u8], pair_crack: &mut [u16]| -> bool {
+        match <&mut [u8; STRIDE]>::try_from(&mut *field) {
+            Ok(f) => *f = [0; STRIDE],
+            Err(_) => field.fill(0),
+        }
+        let xp = p.x[i];
+        if !index.iter().any(|index| index.box_meets_extent(&(xp - reach), &(xp + reach))) {
+            return false;
+        }
+        let nodes = &node[i * STRIDE..i * STRIDE + count[i] as usize];
+        // The nodes' positions and box (kept from the last particle with the same nodes).
+        if nb.nodes != nodes {
+            nb.nodes.clear();
+            nb.nodes.extend_from_slice(nodes);
+            (nb.lo, nb.hi) = (Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY));
+            for (k, &ni) in nodes.iter().enumerate() {
+                nb.x[k] = grid.node_pos(ni as usize);
+                nb.lo = nb.lo.inf(&nb.x[k]);
+                nb.hi = nb.hi.sup(&nb.x[k]);
             }
-            let xp = p.x[i];
-            if !index.iter().any(|index| index.box_meets_extent(&(xp - reach), &(xp + reach))) {
-                return false;
+        }
+        let (lo, hi) = (nb.lo.inf(&xp), nb.hi.sup(&xp));
+        let xn = &nb.x[..nodes.len()];
+        let mut split = false;
+        for (c, crack) in cracks.iter().enumerate() {
+            if !index[c].box_meets_extent(&lo, &hi) {
+                continue;
             }
-            let nodes = &node[i * STRIDE..i * STRIDE + count[i] as usize];
-            // The nodes' positions and box (kept from the last particle with the same nodes).
-            if nb.nodes != nodes {
-                nb.nodes.clear();
-                nb.nodes.extend_from_slice(nodes);
-                (nb.lo, nb.hi) = (Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY));
-                for (k, &ni) in nodes.iter().enumerate() {
-                    nb.x[k] = grid.node_pos(ni as usize);
-                    nb.lo = nb.lo.inf(&nb.x[k]);
-                    nb.hi = nb.hi.sup(&nb.x[k]);
-                }
+            let view = crack.view();
+            // The two-sided triangles near B (none when no triangle plane can cut B).
+            let near: &[NearTriangle] = if index[c].may_be_two_sided(&lo, &hi) {
+                cache.prepare(c, &lo, &hi, nodes, xn, &index[c]);
+                &cache.near
+            } else {
+                &[]
+            };
+            let holding = &node_on[c];
+            if near.is_empty() && holding.is_empty() {
+                continue;
             }
-            let (lo, hi) = (nb.lo.inf(&xp), nb.hi.sup(&xp));
-            let xn = &nb.x[..nodes.len()];
-            let mut split = false;
-            for (c, crack) in cracks.iter().enumerate() {
-                if !index[c].box_meets_extent(&lo, &hi) {
-                    continue;
-                }
-                let view = crack.view();
-                // The two-sided triangles near B (none when no triangle plane can cut B).
-                let near: &[NearTriangle] = if index[c].may_be_two_sided(&lo, &hi) {
-                    cache.prepare(c, &lo, &hi, nodes, xn, &index[c]);
-                    &cache.near
-                } else {
-                    &[]
+            // Two-sided triangles: the nodes on another side than the particle (all
+            // nodes where their sides are not cached), with the particle's exact side.
+            let all = (1u32 << xn.len()) - 1;
+            let candidates = &mut cache.candidates;
+            candidates.clear();
+            for e in near {
+                let op = match e.axis {
+                    Some((a, level, o)) => o * sign(xp[a] - level),
+                    None => {
+                        let v = view.triangles[e.t as usize].map(|q| &view.points[q as usize]);
+                        side_of_plane(v[0], v[1], v[2], &xp)
+                    }
                 };
-                let holding = &node_on[c];
-                if near.is_empty() && holding.is_empty() {
-                    continue;
+                let other = match op {
+                    _ if e.axis.is_none() && op != 0 => all,
+                    1 => e.neg | e.zero,
+                    -1 => e.pos | e.zero,
+                    _ => 0,
+                };
+                if other != 0 {
+                    candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some(), ge: e.ge, le: e.le });
                 }
-                // Two-sided triangles: the nodes on another side than the particle (all
-                // nodes where their sides are not cached), with the particle's exact side.
-                let all = (1u32 << xn.len()) - 1;
-                let candidates = &mut cache.candidates;
-                candidates.clear();
-                for e in near {
-                    let op = match e.axis {
-                        Some((a, level, o)) => o * sign(xp[a] - level),
-                        None => {
-                            let v = view.triangles[e.t as usize].map(|q| &view.points[q as usize]);
-                            side_of_plane(v[0], v[1], v[2], &xp)
-                        }
-                    };
-                    let other = match op {
-                        _ if e.axis.is_none() && op != 0 => all,
-                        1 => e.neg | e.zero,
-                        -1 => e.pos | e.zero,
-                        _ => 0,
-                    };
-                    if other != 0 {
-                        candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some(), ge: e.ge, le: e.le });
+            }
+            // Each candidate's verdicts for the nodes on its other side whose segment
+            // from the particle meets its padded box (per axis from the box's distinct
+            // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
+            // exactly), accumulated per node (the verdict does not depend on the order).
+            let pending = if candidates.is_empty() { 0 } else { (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k) };
+            // (Default between uses: each written accumulator is taken below.)
+            let accs = &mut cache.accs;
+            let mut written = 0u32;
+            for q in candidates.iter() {
+                // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
+                // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
+                let mut m = q.other & pending;
+                for a in 0..3 {
+                    if xp[a] < q.padded[0][a] {
+                        m &= q.ge[a];
                     }
-                }
-                // Each candidate's verdicts for the nodes on its other side whose segment
-                // from the particle meets its padded box (per axis from the box's distinct
-                // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
-                // exactly), accumulated per node (the verdict does not depend on the order).
-                let pending = if candidates.is_empty() { 0 } else { (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k) };
-                // (Default between uses: each written accumulator is taken below.)
-                let accs = &mut cache.accs;
-                let mut written = 0u32;
-                for q in candidates.iter() {
-                    // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
-                    // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
-                    let mut m = q.other & pending;
-                    for a in 0..3 {
-                        if xp[a] < q.padded[0][a] {
-                            m &= q.ge[a];
-                        }
-                        if xp[a] > q.padded[1][a] {
-                            m &= q.le[a];
-                        }
-                    }
-                    while m != 0 {
-                        let k = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let xn = &xn[k];
-                        let seg = [xp.inf(xn), xp.sup(xn)];
-                        if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
-                            written |= 1 << k;
-                            if q.sides_known {
-                                let bit = 1u32 << k;
-                                let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
-                                accs[k].add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
-                            } else {
-                                accs[k].add_with_side(&view, q.t as usize, &xp, xn, q.op);
-                            }
-                        }
+                    if xp[a] > q.padded[1][a] {
+                        m &= q.le[a];
                     }
                 }
-                for (k, &ni) in nodes.iter().enumerate() {
-                    if field[k] != 0 {
-                        continue;
-                    }
-                    // One-sided triangles (B on one side of the plane): the lowest that holds
-                    // the node in its plane and closed area with the particle off its plane
-                    // ([`NodeOnIndex`], in increasing triangle index).
-                    let mut own = None;
-                    {
-                        for t in holding.triangles_holding(ni) {
-                            let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
-                            // lo_a ≤ level ≤ hi_a (the node is in B): one-sided iff B touches
-                            // the plane from one side only.
-                            if (lo[a] == level) == (hi[a] == level) {
-                                continue;
-                            }
-                            let op = o * sign(xp[a] - level);
-                            if op != 0 {
-                                own = Some((t as usize, op));
-                                break;
-                            }
+                while m != 0 {
+                    let k = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let xn = &xn[k];
+                    let seg = [xp.inf(xn), xp.sup(xn)];
+                    if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
+                        written |= 1 << k;
+                        if q.sides_known {
+                            let bit = 1u32 << k;
+                            let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
+                            accs[k].add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
+                        } else {
+                            accs[k].add_with_side(&view, q.t as usize, &xp, xn, q.op);
                         }
-                    }
-                    let side = if written & 1 << k != 0 {
-                        let mut acc = std::mem::take(&mut accs[k]);
-                        if let Some((t, op)) = own {
-                            acc.add_node_on(t, op);
-                        }
-                        acc.side()
-                    } else {
-                        // Rule 4 with the node on the surface and no proper crossing.
-                        match own {
-                            Some((_, 1)) => Side3::Above,
-                            Some(_) => Side3::Below,
-                            None => Side3::None,
-                        }
-                    };
-                    if side != Side3::None {
-                        field[k] = if side == Side3::Above { 1 } else { 2 };
-                        pair_crack[k] = c as u16;
-                        split = true;
                     }
                 }
             }
-            split
-        })
-        .collect_into_vec(&mut scratch.split);
+            for (k, &ni) in nodes.iter().enumerate() {
+                if field[k] != 0 {
+                    continue;
+                }
+                // One-sided triangles (B on one side of the plane): the lowest that holds
+                // the node in its plane and closed area with the particle off its plane
+                // ([`NodeOnIndex`], in increasing triangle index).
+                let mut own = None;
+                {
+                    for t in holding.triangles_holding(ni) {
+                        let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
+                        // lo_a ≤ level ≤ hi_a (the node is in B): one-sided iff B touches
+                        // the plane from one side only.
+                        if (lo[a] == level) == (hi[a] == level) {
+                            continue;
+                        }
+                        let op = o * sign(xp[a] - level);
+                        if op != 0 {
+                            own = Some((t as usize, op));
+                            break;
+                        }
+                    }
+                }
+                let side = if written & 1 << k != 0 {
+                    let mut acc = std::mem::take(&mut accs[k]);
+                    if let Some((t, op)) = own {
+                        acc.add_node_on(t, op);
+                    }
+                    acc.side()
+                } else {
+                    // Rule 4 with the node on the surface and no proper crossing.
+                    match own {
+                        Some((_, 1)) => Side3::Above,
+                        Some(_) => Side3::Below,
+                        None => Side3::None,
+                    }
+                };
+                if side != Side3::None {
+                    field[k] = if side == Side3::Above { 1 } else { 2 };
+                    pair_crack[k] = c as u16;
+                    split = true;
+                }
+            }
+        }
+        split
+    };
+    // Chunks of particles (one closure call and one accumulator set per chunk).
+    const CHUNK: usize = crate::step::PARTICLE_CHUNK;
+    scratch.split.resize(pairs.field.len() / STRIDE, false);
+    (pairs.field.par_chunks_mut(STRIDE * CHUNK), scratch.pair_crack.par_chunks_mut(STRIDE * CHUNK), scratch.split.par_chunks_mut(CHUNK))
+        .into_par_iter()
+        .enumerate()
+        .for_each_init(<(CellCache, NodeBox)>::default, |(cache, nb), (chunk, (fields, pair_cracks, splits))| {
+            for (j, ((field, pair_crack), split)) in fields.chunks_mut(STRIDE).zip(pair_cracks.chunks_mut(STRIDE)).zip(splits.iter_mut()).enumerate() {
+                *split = one(cache, nb, chunk * CHUNK + j, field, pair_crack);
+            }
+        });
     super::record_node_cracks(sim).map_err(|(node, cracks)| too_many_fields(sim, node, cracks))
 }
 
