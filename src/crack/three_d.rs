@@ -150,18 +150,23 @@ fn rebuild_indices(sim: &mut Simulation<D3>) {
 /// particle to node meets the closed triangle ([`Crossing3::add`]), so only if the
 /// triangle's bounding box meets the box B of the particle and all its nodes. A particle
 /// whose reach h + l_p misses every crack's bounding box costs one box test per crack.
-/// Near a crack, the particles of one cell share B and their nodes, so per B (the
-/// [`CellCache`]) the bucket index lists the triangles whose boxes meet B once, each with
-/// the exact side of its plane of every node and of the eight corners of B. A triangle
-/// whose plane has B on one side (no corner strictly on the other; "one-sided") has every
-/// point of B, the particle too, on that side or in the plane (orient3d is affine in the
-/// point, and B is the convex hull of its corners), so its only possible verdict is rule
-/// 3's with the particle on that side: a node in the plane inside the closed triangle
-/// (cached per node, [`crossing3::node_in_triangle`] does not depend on the particle) —
-/// and of those only the lowest triangle counts (rule 4), whose side is the particle's
-/// side of its plane. The other triangles ("two-sided") take the general test: the
-/// particle's exact side once, and each node whose side differs and whose segment passes
-/// through the triangle's padded box.
+/// Near a crack, a triangle in an axis plane x_a = level whose plane has B on one side
+/// (lo_a = level < hi_a or lo_a < level = hi_a; "one-sided") has every point of B, the
+/// particle too, on that side or in the plane, so its only possible verdict is rule 3's
+/// with the particle on that side: a node in the plane inside the closed triangle. Those
+/// (node, triangle) pairs do not depend on the particle ([`crossing3::node_in_triangle`])
+/// and are listed once per crack position ([`NodeOnIndex`]); of a node's, only the lowest
+/// triangle with the particle off its plane counts (rule 4), with the particle's side of
+/// its plane. The other triangles whose boxes meet B ("two-sided": oblique ones, and
+/// axis-plane ones whose plane cuts B) take the general test: per B (the [`CellCache`];
+/// consecutive particles of one cell often share B and their nodes) the bucket index lists
+/// them with the exact side of their plane of every node where that is cheap (axis planes),
+/// then per particle its exact side once, and each node whose side differs and whose
+/// segment passes through the triangle's padded box. When every triangle lies in an axis
+/// plane and no plane cuts B ([`TriangleIndex::may_be_two_sided`]), there is no two-sided
+/// triangle and the bucket query is skipped. The verdicts are accumulated per node in any
+/// order ([`Crossing3`] does not depend on it), so the result is [`Crossing3`]'s over all
+/// triangles, bit for bit the unscreened answer.
 ///
 /// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
 fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
