@@ -195,6 +195,8 @@ fn bench_step_3d(c: &mut Criterion) {
 /// 556 M → 315 M at steps 2–6 (1.42×): Task 1 ≈ 292 M → ≈ 67 M, Task 7 ≈ 27 M → ≈ 16.5 M,
 /// rebuilds 11.3 M → 5.8 M (README, Performance).
 /// Branch ovh2 (same bits): 287.5 M → 268.1 M (1.21×; README, Performance).
+/// Branch ovh3 (same bits): 268.1 M → 241.6 M at steps 2–6 (1.094× of 220.9 M); at steps
+/// 100–104 550.0 → 553.7 M against 395.2 M (1.40×; README, Performance).
 fn bench_crack_3d(c: &mut Criterion) {
     let path = format!("{}/verification/dcb_perf_3d.toml", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();

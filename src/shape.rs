@@ -214,6 +214,32 @@ pub fn weights_into_3d(
     n
 }
 
+/// [`weights_into_3d`]'s nodes and values S of the linear shape functions, without the
+/// gradients (the same operations on the same operands, so the same bits).
+#[inline(always)]
+pub fn linear_weights_3d(grid: &Grid3, x: &Vector3, node: &mut [u32; MAX_NODES_3D], s: &mut [f64; MAX_NODES_3D]) -> usize {
+    let mut w = [[(0.0, 0.0); 3]; 3];
+    let mut idx = [[0usize; 3]; 3];
+    let mut k = [0usize; 3];
+    for c in 0..3 {
+        k[c] = axis_weights(ShapeKind::Linear, x[c], grid.origin[c], grid.h[c], 0.0, 0.0, grid.n[c], &mut w[c], &mut idx[c]);
+    }
+    let mut n = 0;
+    for cz in 0..k[2] {
+        let sz = w[2][cz].0;
+        for b in 0..k[1] {
+            let sy = w[1][b].0;
+            for a in 0..k[0] {
+                let sx = w[0][a].0;
+                node[n] = grid.node_index(idx[0][a], idx[1][b], idx[2][cz]) as u32;
+                s[n] = (sx * sy) * sz;
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
 /// [`weights_into_3d`] as a value (tests, J contours).
 pub fn weights_3d(grid: &Grid3, kind: ShapeKind, x: &Vector3, lp: &Vector3) -> (usize, [u32; MAX_NODES_3D], [f64; MAX_NODES_3D], [Vector3; MAX_NODES_3D]) {
     let (mut node, mut s, mut g) = ([0; MAX_NODES_3D], [0.0; MAX_NODES_3D], [Vector3::zeros(); MAX_NODES_3D]);

@@ -1038,10 +1038,14 @@ pub struct Scratch<S: Space> {
     pub crack_index: Vec<crate::crack::geometry::SegmentIndex>,
     /// Task 1 with cracks (3D): each crack's triangle index.
     pub crack_index3: Vec<crate::crack::crossing3::TriangleIndex>,
-    /// Task 7 with cracks (3D): per grid node, its geometric side of the crack being moved
-    /// (i8::MIN where no crack point touches it), and the nodes touched with their sides.
-    pub node_side3: Vec<i8>,
-    pub touched3: Vec<(u32, i8)>,
+    /// Task 1 with cracks (3D): each crack's nodes lying on its axis-plane triangles.
+    pub crack_node_on3: Vec<crate::crack::three_d::NodeOnIndex>,
+    /// Task 7 with cracks (3D): per grid node, its position in `touched3` (u32::MAX where
+    /// no point of the crack being moved touches it), and the touched nodes.
+    pub node_slot3: Vec<u32>,
+    pub touched3: Vec<crate::crack::three_d::Touched3>,
+    /// Task 7 with cracks (3D): the linear weights of each point of the crack being moved.
+    pub weights3: Vec<crate::crack::three_d::PointWeights3>,
     /// Task 7 with cracks (2D): the crack particles of the crack being moved, as they were
     /// before the move.
     pub crack_points: Vec<crate::dim::Vector>,
@@ -1074,8 +1078,10 @@ impl<S: Space> Default for Scratch<S> {
             forced: Vec::new(),
             crack_index: Vec::new(),
             crack_index3: Vec::new(),
-            node_side3: Vec::new(),
+            crack_node_on3: Vec::new(),
+            node_slot3: Vec::new(),
             touched3: Vec::new(),
+            weights3: Vec::new(),
             crack_points: Vec::new(),
             pair_crack: Vec::new(),
             split: Vec::new(),

@@ -337,6 +337,12 @@ pub struct TriangleIndex {
     /// The points, triangles and bucket size the index was built from
     /// ([`Self::rebuild`] keeps the index when they are unchanged).
     built: (Vec<Vector3>, Vec<[u32; 3]>, f64),
+    /// Per axis, the distinct levels of the triangles in that axis's planes, ascending,
+    /// and whether any triangle lies in no axis plane ([`Self::may_be_two_sided`]).
+    levels: [Vec<f64>; 3],
+    oblique: bool,
+    /// Count of the rebuilds that changed the index (for caches derived from it).
+    generation: u64,
 }
 
 /// Box padding relative to the surface's extent (far above round-off in
@@ -565,6 +571,14 @@ impl TriangleIndex {
                 (a, v[0][a], side_of_plane(v[0], v[1], v[2], &up))
             }));
         }
+        self.oblique = self.axis_plane.iter().any(|a| a.is_none());
+        for (a, levels) in self.levels.iter_mut().enumerate() {
+            levels.clear();
+            levels.extend(self.axis_plane.iter().filter_map(|p| p.filter(|p| p.0 == a).map(|p| p.1)));
+            levels.sort_unstable_by(f64::total_cmp);
+            levels.dedup();
+        }
+        self.generation += 1;
         let nb = n[0] * n[1] * n[2];
         let counts = &mut self.cursor;
         counts.clear();
@@ -607,6 +621,33 @@ impl TriangleIndex {
     #[inline]
     pub fn axis_plane(&self, t: usize) -> Option<(usize, f64, i8)> {
         self.axis_plane[t]
+    }
+
+    /// Count of the rebuilds that changed the index (equal counts, same index).
+    #[inline]
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Triangle t's bounding box (exact: minima and maxima of its corners).
+    #[inline]
+    pub fn aabb(&self, t: usize) -> [Vector3; 2] {
+        self.aabb[t]
+    }
+
+    /// Whether some triangle may meet the closed box [lo, hi] without having the box on
+    /// one side of its plane: false only when every triangle lies in an axis plane
+    /// x_a = level ([`Self::axis_plane`]) and no level has lo_a < level < hi_a (nor
+    /// lo_a = level = hi_a), so that every triangle meeting the box has lo_a = level < hi_a
+    /// or lo_a < level = hi_a (exact comparisons).
+    #[inline]
+    pub fn may_be_two_sided(&self, lo: &Vector3, hi: &Vector3) -> bool {
+        self.oblique
+            || (0..3).any(|a| {
+                let levels = &self.levels[a];
+                let i = levels.partition_point(|&l| l <= lo[a]);
+                (i < levels.len() && levels[i] < hi[a]) || (lo[a] == hi[a] && i > 0 && levels[i - 1] == lo[a])
+            })
     }
 
     /// Triangle t's bounding box padded by [`PAD`] of the surface's extent: the box

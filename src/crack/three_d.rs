@@ -158,18 +158,23 @@ fn rebuild_indices(sim: &mut Simulation<D3>) {
 /// particle to node meets the closed triangle ([`Crossing3::add`]), so only if the
 /// triangle's bounding box meets the box B of the particle and all its nodes. A particle
 /// whose reach h + l_p misses every crack's bounding box costs one box test per crack.
-/// Near a crack, the particles of one cell share B and their nodes, so per B (the
-/// [`CellCache`]) the bucket index lists the triangles whose boxes meet B once, each with
-/// the exact side of its plane of every node and of the eight corners of B. A triangle
-/// whose plane has B on one side (no corner strictly on the other; "one-sided") has every
-/// point of B, the particle too, on that side or in the plane (orient3d is affine in the
-/// point, and B is the convex hull of its corners), so its only possible verdict is rule
-/// 3's with the particle on that side: a node in the plane inside the closed triangle
-/// (cached per node, [`crossing3::node_in_triangle`] does not depend on the particle) —
-/// and of those only the lowest triangle counts (rule 4), whose side is the particle's
-/// side of its plane. The other triangles ("two-sided") take the general test: the
-/// particle's exact side once, and each node whose side differs and whose segment passes
-/// through the triangle's padded box.
+/// Near a crack, a triangle in an axis plane x_a = level whose plane has B on one side
+/// (lo_a = level < hi_a or lo_a < level = hi_a; "one-sided") has every point of B, the
+/// particle too, on that side or in the plane, so its only possible verdict is rule 3's
+/// with the particle on that side: a node in the plane inside the closed triangle. Those
+/// (node, triangle) pairs do not depend on the particle ([`crossing3::node_in_triangle`])
+/// and are listed once per crack position ([`NodeOnIndex`]); of a node's, only the lowest
+/// triangle with the particle off its plane counts (rule 4), with the particle's side of
+/// its plane. The other triangles whose boxes meet B ("two-sided": oblique ones, and
+/// axis-plane ones whose plane cuts B) take the general test: per B (the [`CellCache`];
+/// consecutive particles of one cell often share B and their nodes) the bucket index lists
+/// them with the exact side of their plane of every node where that is cheap (axis planes),
+/// then per particle its exact side once, and each node whose side differs and whose
+/// segment passes through the triangle's padded box. When every triangle lies in an axis
+/// plane and no plane cuts B ([`TriangleIndex::may_be_two_sided`]), there is no two-sided
+/// triangle and the bucket query is skipped. The verdicts are accumulated per node in any
+/// order ([`Crossing3`] does not depend on it), so the result is [`Crossing3`]'s over all
+/// triangles, bit for bit the unscreened answer.
 ///
 /// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
 fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
@@ -180,273 +185,366 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     let pairs = &mut sim.pairs;
     let scratch = &mut sim.scratch;
     let cracks = &sim.cracks;
+    scratch.crack_node_on3.resize_with(cracks.len(), Default::default);
+    for ((node_on, index), crack) in scratch.crack_node_on3.iter_mut().zip(&scratch.crack_index3).zip(cracks) {
+        node_on.rebuild(grid, index, &crack.view());
+    }
     let index = &scratch.crack_index3;
+    let node_on = &scratch.crack_node_on3;
     scratch.pair_crack.resize(pairs.field.len(), 0);
     // As in 2D: a particle's nodes lie within h + l_p of it per axis (with round-off).
     let reach = (grid.h + p.lp.iter().fold(Vector3::zeros(), |a, l| a.sup(l))) * (1.0 + 1e-9);
     let (count, node) = (&pairs.count, &pairs.node);
-    (pairs.field.par_chunks_mut(STRIDE), scratch.pair_crack.par_chunks_mut(STRIDE))
-        .into_par_iter()
-        .with_min_len(crate::step::PARTICLE_CHUNK)
-        .enumerate()
-        .map_init(CellCache::default, |cache: &mut CellCache, (i, (field, pair_crack))| {
-            field.fill(0);
-            let xp = p.x[i];
-            if !index.iter().any(|index| index.box_meets_extent(&(xp - reach), &(xp + reach))) {
-                return false;
-            }
-            let nodes = &node[i * STRIDE..i * STRIDE + count[i] as usize];
-            let mut xn = [Vector3::zeros(); STRIDE];
-            let (mut lo, mut hi) = (xp, xp);
+    // One particle: its pairs' fields and cracks, and whether any pair is split.
+    let one = |cache: &mut CellCache, nb: &mut NodeBox, i: usize, field: &mut [u8], pair_crack: &mut [u16]| -> bool {
+        match <&mut [u8; STRIDE]>::try_from(&mut *field) {
+            Ok(f) => *f = [0; STRIDE],
+            Err(_) => field.fill(0),
+        }
+        let xp = p.x[i];
+        if !index.iter().any(|index| index.box_meets_extent(&(xp - reach), &(xp + reach))) {
+            return false;
+        }
+        let nodes = &node[i * STRIDE..i * STRIDE + count[i] as usize];
+        // The nodes' positions and box (kept from the last particle with the same nodes).
+        if nb.nodes != nodes {
+            nb.nodes.clear();
+            nb.nodes.extend_from_slice(nodes);
+            (nb.lo, nb.hi) = (Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY));
             for (k, &ni) in nodes.iter().enumerate() {
-                xn[k] = grid.node_pos(ni as usize);
-                lo = lo.inf(&xn[k]);
-                hi = hi.sup(&xn[k]);
+                nb.x[k] = grid.node_pos(ni as usize);
+                nb.lo = nb.lo.inf(&nb.x[k]);
+                nb.hi = nb.hi.sup(&nb.x[k]);
             }
-            let xn = &xn[..nodes.len()];
-            let mut split = false;
-            for (c, crack) in cracks.iter().enumerate() {
-                if !index[c].box_meets_extent(&lo, &hi) {
-                    continue;
-                }
-                let view = crack.view();
+        }
+        let (lo, hi) = (nb.lo.inf(&xp), nb.hi.sup(&xp));
+        let xn = &nb.x[..nodes.len()];
+        let mut split = false;
+        for (c, crack) in cracks.iter().enumerate() {
+            if !index[c].box_meets_extent(&lo, &hi) {
+                continue;
+            }
+            let view = crack.view();
+            // The two-sided triangles near B (none when no triangle plane can cut B).
+            let near: &[NearTriangle] = if index[c].may_be_two_sided(&lo, &hi) {
                 cache.prepare(c, &lo, &hi, nodes, xn, &index[c]);
-                if cache.near.is_empty() {
+                &cache.near
+            } else {
+                &[]
+            };
+            let holding = &node_on[c];
+            if near.is_empty() && holding.is_empty() {
+                continue;
+            }
+            // Two-sided triangles: the nodes on another side than the particle (all
+            // nodes where their sides are not cached), with the particle's exact side.
+            let all = (1u32 << xn.len()) - 1;
+            let candidates = &mut cache.candidates;
+            candidates.clear();
+            for e in near {
+                let op = match e.axis {
+                    Some((a, level, o)) => o * sign(xp[a] - level),
+                    None => {
+                        let v = view.triangles[e.t as usize].map(|q| &view.points[q as usize]);
+                        side_of_plane(v[0], v[1], v[2], &xp)
+                    }
+                };
+                let other = match op {
+                    _ if e.axis.is_none() && op != 0 => all,
+                    1 => e.neg | e.zero,
+                    -1 => e.pos | e.zero,
+                    _ => 0,
+                };
+                if other != 0 {
+                    candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some(), ge: e.ge, le: e.le });
+                }
+            }
+            // Each candidate's verdicts for the nodes on its other side whose segment
+            // from the particle meets its padded box (per axis from the box's distinct
+            // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
+            // exactly), accumulated per node (the verdict does not depend on the order).
+            let pending = if candidates.is_empty() { 0 } else { (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k) };
+            // (Default between uses: each written accumulator is taken below.)
+            let accs = &mut cache.accs;
+            let mut written = 0u32;
+            for q in candidates.iter() {
+                // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
+                // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
+                let mut m = q.other & pending;
+                for a in 0..3 {
+                    if xp[a] < q.padded[0][a] {
+                        m &= q.ge[a];
+                    }
+                    if xp[a] > q.padded[1][a] {
+                        m &= q.le[a];
+                    }
+                }
+                while m != 0 {
+                    let k = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let xn = &xn[k];
+                    let seg = [xp.inf(xn), xp.sup(xn)];
+                    if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
+                        written |= 1 << k;
+                        if q.sides_known {
+                            let bit = 1u32 << k;
+                            let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
+                            accs[k].add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
+                        } else {
+                            accs[k].add_with_side(&view, q.t as usize, &xp, xn, q.op);
+                        }
+                    }
+                }
+            }
+            for (k, &ni) in nodes.iter().enumerate() {
+                if field[k] != 0 {
                     continue;
                 }
-                // The particle's exact side of each triangle's plane, when asked (2: not yet).
-                cache.op.clear();
-                cache.op.resize(cache.near.len(), 2);
-                let op_of = |op: &mut [i8], j: usize, e: &NearTriangle| {
-                    if op[j] == 2 {
-                        op[j] = match e.axis {
-                            Some((a, level, o)) => o * sign(xp[a] - level),
-                            None => {
-                                let v = view.triangles[e.t as usize].map(|q| &view.points[q as usize]);
-                                side_of_plane(v[0], v[1], v[2], &xp)
-                            }
-                        };
-                    }
-                    op[j]
-                };
-                // Two-sided triangles: the nodes on another side than the particle (all
-                // nodes where their sides are not cached).
-                let all = (1u32 << xn.len()) - 1;
-                let mut candidates = std::mem::take(&mut cache.candidates);
-                candidates.clear();
-                for (j, e) in cache.near.iter().enumerate() {
-                    if e.one_sided != 0 {
-                        continue;
-                    }
-                    let op = op_of(&mut cache.op, j, e);
-                    let other = match op {
-                        _ if e.axis.is_none() && op != 0 => all,
-                        1 => e.neg | e.zero,
-                        -1 => e.pos | e.zero,
-                        _ => 0,
-                    };
-                    if other != 0 {
-                        candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some(), ge: e.ge, le: e.le });
-                    }
-                }
-                // Each candidate's verdicts for the nodes on its other side whose segment
-                // from the particle meets its padded box (per axis from the box's distinct
-                // node coordinates: the first test of [`TriangleIndex::segment_may_meet`],
-                // exactly), accumulated per node (the verdict does not depend on the order).
-                let pending = (0..xn.len()).filter(|&k| field[k] == 0).fold(0u32, |m, k| m | 1 << k);
-                let mut accs = [Crossing3::default(); STRIDE];
-                for q in &candidates {
-                    // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
-                    // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
-                    let mut m = q.other & pending;
-                    for a in 0..3 {
-                        if xp[a] < q.padded[0][a] {
-                            m &= q.ge[a];
-                        }
-                        if xp[a] > q.padded[1][a] {
-                            m &= q.le[a];
-                        }
-                    }
-                    while m != 0 {
-                        let k = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let xn = &xn[k];
-                        let seg = [xp.inf(xn), xp.sup(xn)];
-                        if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
-                            if q.sides_known {
-                                let bit = 1u32 << k;
-                                let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
-                                accs[k].add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
-                            } else {
-                                accs[k].add_with_side(&view, q.t as usize, &xp, xn, q.op);
-                            }
-                        }
-                    }
-                }
-                for (k, xn) in xn.iter().enumerate() {
-                    if field[k] != 0 {
-                        continue;
-                    }
-                    let bit = 1u32 << k;
-                    let acc = &mut accs[k];
-                    // One-sided triangles, in increasing index: the first that holds the
-                    // node in its plane and closed area, with the particle off its plane.
-                    // The lowest such triangle regardless of the particle is cached per node
-                    // (`first`); it is the answer unless the particle lies in its plane, when
-                    // the scan goes on from the next one.
-                    let from = if cache.zero_one_sided & bit == 0 {
-                        cache.near.len()
-                    } else {
-                        if cache.first[k] == FIRST_UNKNOWN {
-                            cache.first[k] = first_inside(&cache.near, &view, k, xn);
-                        }
-                        match cache.first[k] {
-                            FIRST_SCAN => 0,
-                            FIRST_NONE => cache.near.len(),
-                            j0 => {
-                                let e = &cache.near[j0 as usize];
-                                let op = op_of(&mut cache.op, j0 as usize, e);
-                                if op != 0 {
-                                    acc.add_node_on(e.t as usize, op);
-                                    cache.near.len()
-                                } else {
-                                    j0 as usize + 1
-                                }
-                            }
-                        }
-                    };
-                    for j in from..cache.near.len() {
-                        let e = &cache.near[j];
-                        if e.one_sided == 0 || e.zero & bit == 0 || (e.inside_known & bit != 0 && e.inside & bit == 0) {
+                // One-sided triangles (B on one side of the plane): the lowest that holds
+                // the node in its plane and closed area with the particle off its plane
+                // ([`NodeOnIndex`], in increasing triangle index).
+                let mut own = None;
+                {
+                    for t in holding.triangles_holding(ni) {
+                        let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
+                        // lo_a ≤ level ≤ hi_a (the node is in B): one-sided iff B touches
+                        // the plane from one side only.
+                        if (lo[a] == level) == (hi[a] == level) {
                             continue;
                         }
-                        let t = e.t;
-                        let op = op_of(&mut cache.op, j, e);
-                        if op == 0 {
-                            continue;
-                        }
-                        let e = &mut cache.near[j];
-                        if e.inside_known & bit == 0 {
-                            e.inside_known |= bit;
-                            if super::crossing3::node_in_triangle(&view, t as usize, &xp, xn) {
-                                e.inside |= bit;
-                            }
-                        }
-                        if e.inside & bit != 0 {
-                            acc.add_node_on(t as usize, op);
+                        let op = o * sign(xp[a] - level);
+                        if op != 0 {
+                            own = Some((t as usize, op));
                             break;
                         }
                     }
-                    let side = acc.side();
-                    if side != Side3::None {
-                        field[k] = if side == Side3::Above { 1 } else { 2 };
-                        pair_crack[k] = c as u16;
-                        split = true;
-                    }
                 }
-                cache.candidates = candidates;
+                let side = if written & 1 << k != 0 {
+                    let mut acc = std::mem::take(&mut accs[k]);
+                    if let Some((t, op)) = own {
+                        acc.add_node_on(t, op);
+                    }
+                    acc.side()
+                } else {
+                    // Rule 4 with the node on the surface and no proper crossing.
+                    match own {
+                        Some((_, 1)) => Side3::Above,
+                        Some(_) => Side3::Below,
+                        None => Side3::None,
+                    }
+                };
+                if side != Side3::None {
+                    field[k] = if side == Side3::Above { 1 } else { 2 };
+                    pair_crack[k] = c as u16;
+                    split = true;
+                }
             }
-            split
-        })
-        .collect_into_vec(&mut scratch.split);
+        }
+        split
+    };
+    // Chunks of particles (one closure call and one accumulator set per chunk).
+    const CHUNK: usize = crate::step::PARTICLE_CHUNK;
+    scratch.split.resize(pairs.field.len() / STRIDE, false);
+    (pairs.field.par_chunks_mut(STRIDE * CHUNK), scratch.pair_crack.par_chunks_mut(STRIDE * CHUNK), scratch.split.par_chunks_mut(CHUNK))
+        .into_par_iter()
+        .enumerate()
+        .for_each_init(<(CellCache, NodeBox)>::default, |(cache, nb), (chunk, (fields, pair_cracks, splits))| {
+            for (j, ((field, pair_crack), split)) in fields.chunks_mut(STRIDE).zip(pair_cracks.chunks_mut(STRIDE)).zip(splits.iter_mut()).enumerate() {
+                *split = one(cache, nb, chunk * CHUNK + j, field, pair_crack);
+            }
+        });
     super::record_node_cracks(sim).map_err(|(node, cracks)| too_many_fields(sim, node, cracks))
 }
 
-/// Per-thread scratch of Task 1: the triangles near the last box B of a particle and its
-/// nodes (`key`: crack, corners of B, nodes; particles of one cell usually share it), in
-/// increasing index, each with the nodes' sides of its plane; and the current particle's
-/// sides and two-sided candidates.
+/// Per-thread scratch of Task 1: the two-sided triangles near the last box B of a particle
+/// and its nodes (`key`: crack, corners of B, nodes; particles of one cell usually share
+/// it), each with the nodes' sides of its plane; and the current particle's candidates.
+#[derive(Default)]
 struct CellCache {
     key: Option<(usize, Vector3, Vector3)>,
     nodes: Vec<u32>,
-    /// Scratch: the indices of the triangles near B, sorted.
-    ts: Vec<u32>,
     /// Per axis, the distinct coordinates of the nodes, each with the nodes (bits) that
     /// have it (a comparison of a node's coordinate is made once per value).
     coords: [Vec<(f64, u32)>; 3],
     near: Vec<NearTriangle>,
-    /// The nodes in the plane of some one-sided triangle (the others skip that scan).
-    zero_one_sided: u32,
-    /// Per node in `zero_one_sided`: the first one-sided triangle (position in `near`)
-    /// holding it in its plane and closed area ([`first_inside`]; `FIRST_UNKNOWN` until
-    /// asked).
-    first: [u32; D3::MAX_NODES],
-    op: Vec<i8>,
     candidates: Vec<Candidate>,
+    /// Per node position, the crossing verdicts of the current particle's candidates
+    /// (default between particles).
+    accs: [Crossing3; D3::MAX_NODES],
 }
 
-/// A triangle whose bounding box meets B: its index, padded box
-/// ([`TriangleIndex::padded_box`]), the nodes (bits by position in the particle's node
-/// list) above, below and in its plane (of a one-sided triangle only the nodes in its
-/// padded box), whether B lies on one side of the plane (+1, −1)
-/// or not (0), and, per node in the plane, whether it lies in the closed triangle
-/// (`inside`, valid where `inside_known`; filled when first asked).
+/// A two-sided triangle whose bounding box meets B (B not on one side of its plane): its
+/// index, padded box ([`TriangleIndex::padded_box`]), and, for a triangle in an axis plane,
+/// the nodes (bits by position in the particle's node list) above, below and in its plane.
 struct NearTriangle {
     t: u32,
     padded: [Vector3; 2],
     pos: u32,
     neg: u32,
     zero: u32,
-    one_sided: i8,
     /// For a triangle in an axis plane: the axis, the plane's level, and the sign of the
     /// normal's component along the axis (so a point's side is that sign times the sign
     /// of x_axis − level, exactly: the triple product reduces to that component).
     axis: Option<(usize, f64, i8)>,
-    inside_known: u32,
-    inside: u32,
     /// Per axis a, the nodes with x_a ≥ the padded box's lower bound, and ≤ its upper.
     ge: [u32; 3],
     le: [u32; 3],
 }
 
-impl Default for CellCache {
+/// Rule 3 for the triangles in axis planes, per grid node: every (node, triangle) with the
+/// node in the triangle's plane and closed area, sorted (so each node's triangles are in
+/// increasing index). Built when the crack's index was rebuilt (`generation`).
+///
+/// Why Task 1 may take a one-sided triangle's verdicts from here: for a box B of a
+/// particle and its nodes and a triangle T in the axis plane x_a = level whose bounding box
+/// meets B, B on one side of the plane (lo_a = level < hi_a or lo_a < level = hi_a) puts
+/// every point of B, the particle too, on that side or in the plane, so the segment from
+/// the particle to a node of B never crosses T properly (rule 2 needs strictly opposite
+/// sides) and T's only possible verdict is rule 3's: the node in the plane and in the
+/// closed triangle, the particle off the plane, with the particle's side. Such a node lies
+/// in T's bounding box, so T meets B whatever B is, and [`crossing3::node_in_triangle`]
+/// does not depend on the particle (any point off the plane gives its answer), so the
+/// pairs can be listed once per crack position for all boxes. Of a node's rule-3 verdicts
+/// only the lowest triangle counts ([`Crossing3::add_node_on`]), so the scan stops at the
+/// first one-sided triangle with the particle off its plane.
+///
+/// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
+#[derive(Clone, Debug, Default)]
+pub struct NodeOnIndex {
+    pairs: Vec<(u32, u32)>,
+    /// Per grid node (bit i of word i / 64), whether it is in `pairs`; per word, how many
+    /// set bits the words before it hold; and where each node's run of `pairs` starts (by
+    /// the node's rank among the set bits; one more entry, the end).
+    holds: Vec<u64>,
+    rank: Vec<u32>,
+    starts: Vec<u32>,
+    generation: Option<u64>,
+}
+
+/// Per-thread scratch of Task 1: the last particle's nodes, their positions and box.
+struct NodeBox {
+    nodes: Vec<u32>,
+    x: [Vector3; D3::MAX_NODES],
+    lo: Vector3,
+    hi: Vector3,
+}
+
+impl Default for NodeBox {
     fn default() -> Self {
-        CellCache {
-            key: None,
-            nodes: Vec::new(),
-            ts: Vec::new(),
-            coords: Default::default(),
-            near: Vec::new(),
-            zero_one_sided: 0,
-            first: [FIRST_UNKNOWN; D3::MAX_NODES],
-            op: Vec::new(),
-            candidates: Vec::new(),
-        }
+        NodeBox { nodes: Vec::new(), x: [Vector3::zeros(); D3::MAX_NODES], lo: Vector3::repeat(f64::INFINITY), hi: Vector3::repeat(f64::NEG_INFINITY) }
     }
 }
 
-/// [`CellCache::first`]: not yet asked, no such triangle, and "scan them all" (the test
-/// point off the plane could not be formed).
-const FIRST_UNKNOWN: u32 = u32::MAX;
-const FIRST_NONE: u32 = u32::MAX - 1;
-const FIRST_SCAN: u32 = u32::MAX - 2;
-
-/// The first one-sided triangle of `near` (all in axis planes) whose plane holds node k
-/// (`zero` bit) and whose closed area holds it too: [`crossing3::node_in_triangle`] with
-/// the test point x_n + e_a off the plane x_a = level (its answer is the same for every
-/// point off the plane, so for every particle of the box).
-///
-/// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
-fn first_inside(near: &[NearTriangle], view: &SurfaceView, k: usize, xn: &Vector3) -> u32 {
-    for (j, e) in near.iter().enumerate() {
-        if e.one_sided == 0 || e.zero & (1 << k) == 0 {
-            continue;
+impl NodeOnIndex {
+    /// List the pairs for the crack of `view` as `index` holds it, on `grid` (a no-op when
+    /// the index has not been rebuilt since).
+    fn rebuild(&mut self, grid: &crate::grid::Grid3, index: &TriangleIndex, view: &SurfaceView) {
+        if self.generation == Some(index.generation()) {
+            return;
         }
-        let Some((a, _, _)) = e.axis else { return FIRST_SCAN };
-        let mut p = *xn;
-        p[a] += 1.0;
-        if p[a] == xn[a] || j as u32 >= FIRST_SCAN {
-            return FIRST_SCAN;
+        self.generation = Some(index.generation());
+        for &(i, _) in &self.pairs {
+            self.holds[i as usize / 64] = 0;
         }
-        if super::crossing3::node_in_triangle(view, e.t as usize, &p, xn) {
-            return j as u32;
+        self.holds.resize(crate::dim::GridGeometry::num_nodes(grid) / 64 + 1, 0);
+        self.pairs.clear();
+        // Node coordinates along axis c (as `node_pos` forms them: monotone in i).
+        let coord = |c: usize, i: usize| grid.origin[c] + i as f64 * grid.h[c];
+        for t in 0..view.triangles.len() {
+            let Some((a, level, _)) = index.axis_plane(t) else { continue };
+            let [tl, th] = index.aabb(t);
+            // Per axis, the node indices whose coordinate lies in [tl, th] (level along a),
+            // searched two indices beyond the rounded quotients and tested exactly.
+            let mut range = [(0usize, 0usize); 3];
+            let mut empty = false;
+            for c in 0..3 {
+                let (l, h) = if c == a { (level, level) } else { (tl[c], th[c]) };
+                let q = |x: f64| (x - grid.origin[c]) / grid.h[c];
+                // (Two indices of margin; `as` truncates the non-negative values.)
+                let (f0, f1) = (q(l) - 2.0, q(h) + 2.0);
+                if !(f1 >= 0.0 && f0 <= grid.n[c] as f64) {
+                    empty = true;
+                    break;
+                }
+                let (mut i0, mut i1) = (f0.max(0.0) as usize, f1.min(grid.n[c] as f64) as usize);
+                while i0 <= i1 && coord(c, i0) < l {
+                    i0 += 1;
+                }
+                while i1 >= i0 && coord(c, i1) > h {
+                    if i1 == 0 {
+                        empty = true;
+                        break;
+                    }
+                    i1 -= 1;
+                }
+                if empty || i0 > i1 {
+                    empty = true;
+                    break;
+                }
+                range[c] = (i0, i1);
+            }
+            if empty {
+                continue;
+            }
+            for iz in range[2].0..=range[2].1 {
+                for iy in range[1].0..=range[1].1 {
+                    for ix in range[0].0..=range[0].1 {
+                        let x = Vector3::new(coord(0, ix), coord(1, iy), coord(2, iz));
+                        debug_assert_eq!(x[a], level);
+                        // A test point off the plane x_a = level.
+                        let mut p = x;
+                        p[a] += 1.0;
+                        if p[a] == x[a] {
+                            p[a] = x[a] * 2.0;
+                        }
+                        if super::crossing3::node_in_triangle(view, t, &p, &x) {
+                            self.pairs.push((grid.node_index(ix, iy, iz) as u32, t as u32));
+                        }
+                    }
+                }
+            }
+        }
+        self.pairs.sort_unstable();
+        self.starts.clear();
+        for (j, &(i, _)) in self.pairs.iter().enumerate() {
+            if j == 0 || self.pairs[j - 1].0 != i {
+                self.starts.push(j as u32);
+            }
+            self.holds[i as usize / 64] |= 1 << (i % 64);
+        }
+        self.starts.push(self.pairs.len() as u32);
+        self.rank.clear();
+        let mut r = 0;
+        for w in &self.holds {
+            self.rank.push(r);
+            r += w.count_ones();
         }
     }
-    FIRST_NONE
+
+    /// Whether the list is empty.
+    #[inline]
+    fn is_empty(&self) -> bool {
+        self.pairs.is_empty()
+    }
+
+    /// The triangles holding node i (in its plane and closed area), in increasing index.
+    #[inline]
+    fn triangles_holding(&self, i: u32) -> impl Iterator<Item = u32> + '_ {
+        let (w, b) = (i as usize / 64, i % 64);
+        let run = match self.holds.get(w) {
+            Some(&word) if word >> b & 1 != 0 => {
+                let r = (self.rank[w] + (word & ((1u64 << b) - 1)).count_ones()) as usize;
+                &self.pairs[self.starts[r] as usize..self.starts[r + 1] as usize]
+            }
+            _ => &[],
+        };
+        run.iter().map(|&(_, t)| t)
+    }
 }
 
 impl CellCache {
-    /// Make the cache hold B = [lo, hi] of crack c with these nodes.
+    /// Make the cache hold the two-sided triangles near B = [lo, hi] of crack c with these
+    /// nodes (the one-sided ones are [`NodeOnIndex`]'s).
     #[allow(clippy::too_many_arguments)]
     fn prepare(&mut self, c: usize, lo: &Vector3, hi: &Vector3, nodes: &[u32], xn: &[Vector3], index: &TriangleIndex) {
         if self.key == Some((c, *lo, *hi)) && self.nodes == nodes {
@@ -466,51 +564,19 @@ impl CellCache {
             }
         }
         self.near.clear();
-        let ts = &mut self.ts;
-        ts.clear();
-        index.near(lo, hi, |t| ts.push(t as u32));
-        ts.sort_unstable();
-        self.near.extend(ts.iter().map(|&t| NearTriangle { t, padded: index.padded_box(t as usize), pos: 0, neg: 0, zero: 0, one_sided: 0, axis: None, inside_known: 0, inside: 0, ge: [0; 3], le: [0; 3] }));
-        self.zero_one_sided = 0;
-        self.first = [FIRST_UNKNOWN; D3::MAX_NODES];
-        for e in self.near.iter_mut() {
-            let [pl, ph] = &e.padded;
+        let (near, coords) = (&mut self.near, &self.coords);
+        index.near(lo, hi, |t| {
+            let mut e = NearTriangle { t: t as u32, padded: index.padded_box(t), pos: 0, neg: 0, zero: 0, axis: None, ge: [0; 3], le: [0; 3] };
             // A triangle in an axis plane x_a = level is classified here (exactly and
             // cheaply); the others take the general test.
-            if let Some((a, level, o)) = index.axis_plane(e.t as usize) {
-                e.axis = Some((a, level, o));
-                // Every point x of B has the side o · sign(x_a − level).
-                e.one_sided = if lo[a] >= level && hi[a] > level {
-                    o
-                } else if hi[a] <= level && lo[a] < level {
-                    -o
-                } else {
-                    0
-                };
-                if e.one_sided != 0 {
-                    // Only a node in the plane and in the closed triangle matters (its `zero`
-                    // bit; `pos` and `neg` are not read), so only the nodes in the plane and
-                    // in the padded box are kept.
-                    let in_plane = self.coords[a].iter().filter(|&&(x, _)| sign(x - level) == 0).fold(0, |m, &(_, b)| m | b);
-                    // (Along a, level ∓ pad hold level.)
-                    let mut zero = in_plane;
-                    for c in (0..3).filter(|&c| c != a) {
-                        if zero == 0 {
-                            break;
-                        }
-                        let mut in_box = 0;
-                        for &(x, bits) in &self.coords[c] {
-                            if x >= pl[c] && x <= ph[c] {
-                                in_box |= bits;
-                            }
-                        }
-                        zero &= in_box;
-                    }
-                    e.zero = zero;
-                    self.zero_one_sided |= zero;
-                    continue;
+            if let Some((a, level, o)) = index.axis_plane(t) {
+                // Every point x of B has the side o · sign(x_a − level): B on one side
+                // leaves only rule 3, [`NodeOnIndex`]'s.
+                if (lo[a] >= level && hi[a] > level) || (hi[a] <= level && lo[a] < level) {
+                    return;
                 }
-                for &(x, bits) in &self.coords[a] {
+                e.axis = Some((a, level, o));
+                for &(x, bits) in &coords[a] {
                     match o * sign(x - level) {
                         1 => e.pos |= bits,
                         -1 => e.neg |= bits,
@@ -518,9 +584,10 @@ impl CellCache {
                     }
                 }
             }
-            // A two-sided triangle: per axis, the nodes at or above the padded box's lower
-            // bound and at or below its upper (for the candidates' segment-box test).
-            for (c, vals) in self.coords.iter().enumerate() {
+            // Per axis, the nodes at or above the padded box's lower bound and at or below
+            // its upper (for the candidates' segment-box test).
+            let [pl, ph] = e.padded;
+            for (c, vals) in coords.iter().enumerate() {
                 for &(x, bits) in vals {
                     if x >= pl[c] {
                         e.ge[c] |= bits;
@@ -530,7 +597,8 @@ impl CellCache {
                     }
                 }
             }
-        }
+            near.push(e);
+        });
     }
 }
 
@@ -622,113 +690,165 @@ fn centre_of_mass_velocity(sim: &Simulation<D3>, i: usize) -> Option<Vector3> {
 }
 
 /// Velocity at x from the nodes' fields chosen by `field(i)`, with the linear shape
-/// functions renormalised over the nodes that have one (001's N*); zero if none has.
-fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: &dyn Fn(usize) -> Option<Vector3>) -> Option<Vector3> {
+/// functions renormalised over the nodes that have one (001's N*); None if none has.
+#[inline]
+fn field_velocity(sim: &Simulation<D3>, x: &Vector3, field: impl Fn(usize) -> Option<Vector3>) -> Option<Vector3> {
     let mut node = [0u32; D3::MAX_NODES];
     let mut s = [0.0; D3::MAX_NODES];
     let mut g = [Vector3::zeros(); D3::MAX_NODES];
     let n = D3::weights_into(&sim.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s, &mut g);
-    fn sums<A: Accumulator<4>>(n: usize, node: &[u32], s: &[f64], field: &dyn Fn(usize) -> Option<Vector3>) -> Option<[f64; 4]> {
+    weighted_velocity(&s[..n], |k| field(node[k] as usize))
+}
+
+/// [`field_velocity`] from the weights `s` of its nodes (`field(k)` for the k-th).
+#[inline(always)]
+fn weighted_velocity(s: &[f64], field: impl Fn(usize) -> Option<Vector3>) -> Option<Vector3> {
+    #[inline(always)]
+    fn sums<A: Accumulator<4>>(s: &[f64], field: &impl Fn(usize) -> Option<Vector3>) -> Option<[f64; 4]> {
         let mut a = A::default();
-        for k in 0..n {
-            if let Some(v) = field(node[k] as usize) {
-                a.add([s[k] * v.x, s[k] * v.y, s[k] * v.z, s[k]]);
+        for (k, &s) in s.iter().enumerate() {
+            if let Some(v) = field(k) {
+                a.add([s * v.x, s * v.y, s * v.z, s]);
             }
         }
         a.certified()
     }
-    let [sx, sy, sz, ws] = sums::<FastSum<4>>(n, &node, &s, field).or_else(|| sums::<ExactSums<4>>(n, &node, &s, field)).expect("exact sums certify");
+    let [sx, sy, sz, ws] = sums::<FastSum<4>>(s, &field).or_else(|| sums::<ExactSums<4>>(s, &field)).expect("exact sums certify");
     (ws > 0.0).then(|| Vector3::new(sx, sy, sz) / ws)
+}
+
+/// The linear weights of one of Task 7's points: its nodes' positions in the touched list
+/// and their weights (`n` = [`WEIGHTS_UNKNOWN`] when it has more than 8 nodes: recomputed).
+#[derive(Clone, Copy, Debug)]
+pub struct PointWeights3 {
+    n: u8,
+    slot: [u32; 8],
+    s: [f64; 8],
+}
+
+const WEIGHTS_UNKNOWN: u8 = u8::MAX;
+
+/// A node that Task 7's points touch: its index, whether an upper- or lower-surface point
+/// touches it, and the velocities the three surfaces read there (the above side's field,
+/// the below side's, and the centre of mass; None where the node offers none), formed once
+/// per node and step instead of once per point (the same operations on the same values).
+#[derive(Clone, Copy, Debug)]
+pub struct Touched3 {
+    i: u32,
+    surface: bool,
+    v: [Option<Vector3>; 3],
 }
 
 /// Task 7 in 3D: every crack particle moves in the centre-of-mass velocity of its nodes
 /// (eq. 32), each crack-surface point in the velocity field of its own side (001 eqs.
 /// 11–12; [`super::side_field`] chooses the field, as in 2D).
 fn task7_move_cracks(sim: &mut Simulation<D3>) {
-    /// `node_side` marks: a node no crack point touches, and one touched (side pending).
-    const UNSEEN: i8 = i8::MIN;
-    const SEEN: i8 = 2;
+    /// `slot` mark of a node no crack point touches.
+    const UNSEEN: u32 = u32::MAX;
     let dt = sim.options.dt;
     let reach = 2.0 * sim.grid.h.max();
     rebuild_indices(sim);
     let mut cracks = std::mem::take(&mut sim.cracks);
-    let mut mark = std::mem::take(&mut sim.scratch.node_side3);
+    let mut slot = std::mem::take(&mut sim.scratch.node_slot3);
     let mut touched = std::mem::take(&mut sim.scratch.touched3);
+    let mut weights = std::mem::take(&mut sim.scratch.weights3);
     let num_nodes = sim.nodes.present.len();
-    if mark.len() != num_nodes {
-        mark.clear();
-        mark.resize(num_nodes, UNSEEN);
+    if slot.len() != num_nodes {
+        slot.clear();
+        slot.resize(num_nodes, UNSEEN);
     }
     let this: &Simulation<D3> = sim;
     const POINT_CHUNK: usize = 32;
     for (c, crack) in cracks.iter_mut().enumerate() {
         let index = &this.scratch.crack_index3[c];
-        // The geometric side of every node the crack's surface points touch and whose side
-        // [`super::side_field`] asks for (only nodes whose fields do not tell the side: it
-        // asks whenever it calls its closure, whichever surface), once per step, kept per
-        // node in `mark` (0 for the touched nodes it does not ask about, reset after).
+        // The nodes the crack's points touch, each once (`slot`: its position in `touched`).
+        // Each point's weights are kept for its motion below.
         touched.clear();
-        let mut node = [0u32; D3::MAX_NODES];
-        let (mut s8, mut g8) = ([0.0; D3::MAX_NODES], [Vector3::zeros(); D3::MAX_NODES]);
-        for x in crack.above.iter().chain(&crack.below) {
-            let n = D3::weights_into(&this.grid, ShapeKind::Linear, x, &Vector3::zeros(), &mut node, &mut s8, &mut g8);
-            for &i in &node[..n] {
-                if mark[i as usize] == UNSEEN {
-                    mark[i as usize] = SEEN;
-                    touched.push((i, 0));
+        weights.clear();
+        let (mut node, mut s27) = ([0u32; D3::MAX_NODES], [0.0; D3::MAX_NODES]);
+        let surface_points = crack.above.len() + crack.below.len();
+        for (k, x) in crack.above.iter().chain(&crack.below).chain(&crack.surface.vertices).enumerate() {
+            // (`field_velocity`'s nodes and weights.)
+            let n = crate::shape::linear_weights_3d(&this.grid, x, &mut node, &mut s27);
+            let mut w = PointWeights3 { n: if n <= 8 { n as u8 } else { WEIGHTS_UNKNOWN }, slot: [0; 8], s: [0.0; 8] };
+            for (m, &i) in node[..n].iter().enumerate() {
+                let j = &mut slot[i as usize];
+                if *j == UNSEEN {
+                    *j = touched.len() as u32;
+                    touched.push(Touched3 { i, surface: false, v: [None; 3] });
+                }
+                touched[*j as usize].surface |= k < surface_points;
+                if m < 8 {
+                    (w.slot[m], w.s[m]) = (*j, s27[m]);
                 }
             }
+            weights.push(w);
         }
         {
             let shape: &Crack3 = &*crack;
-            touched.par_iter_mut().for_each(|(i, side)| {
-                let mut asks = false;
-                super::side_field(this.nodes.present[*i as usize], this.nodes.crack[*i as usize], c, true, || {
-                    asks = true;
-                    0
-                });
-                if asks {
-                    *side = side_of(shape, index, &this.grid.node_pos(*i as usize), reach);
+            let nodes = &this.nodes;
+            touched.par_iter_mut().for_each(|t| {
+                let i = t.i as usize;
+                let (present, node_crack) = (nodes.present[i], nodes.crack[i]);
+                let vel = |f: usize| nodes.fields[f].mom[i] / nodes.fields[f].mass[i];
+                if t.surface {
+                    // The node's geometric side, only where [`super::side_field`] asks for
+                    // it (nodes whose fields do not tell the side; it asks whenever it calls
+                    // its closure, whichever surface).
+                    let mut asks = false;
+                    super::side_field(present, node_crack, c, true, || {
+                        asks = true;
+                        0
+                    });
+                    let side = if asks { side_of(shape, index, &this.grid.node_pos(i), reach) } else { 0 };
+                    t.v[0] = super::side_field(present, node_crack, c, true, || side).map(vel);
+                    t.v[1] = super::side_field(present, node_crack, c, false, || side).map(vel);
                 }
+                t.v[2] = centre_of_mass_velocity(this, i);
             });
-        }
-        for &(i, side) in &touched {
-            mark[i as usize] = side;
         }
         {
-            let mark = &mark;
-            let node_side = |i: usize| if mark[i] == UNSEEN { 0 } else { mark[i] };
-            let side = |i: usize, above: bool| {
-                let nodes = &this.nodes;
-                super::side_field(nodes.present[i], nodes.crack[i], c, above, || node_side(i)).map(|f| nodes.fields[f].mom[i] / nodes.fields[f].mass[i])
+            let (slot, touched) = (&slot, &touched);
+            // Each point moves in its own surface's velocities (the nodes' fields and sides
+            // were fixed above, so the points move independently, in place): each surface
+            // point in its side's fields, each crack particle in the centre-of-mass
+            // velocity; one without material around it (in a crack open by more than a
+            // cell) moves with its two surface points, so that it stays between them (as in
+            // 2D, `crate::crack`'s Task 7).
+            let (na, nb) = (crack.above.len(), crack.below.len());
+            let (wa, rest) = weights.split_at(na);
+            let (wb, wv) = rest.split_at(nb);
+            let vel = |x: &Vector3, w: &PointWeights3, which: usize| -> Option<Vector3> {
+                if w.n == WEIGHTS_UNKNOWN {
+                    field_velocity(this, x, |i| touched[slot[i] as usize].v[which])
+                } else {
+                    weighted_velocity(&w.s[..w.n as usize], |k| touched[w.slot[k] as usize].v[which])
+                }
             };
-            // Each surface point moves in its own side's fields (the nodes' fields and sides
-            // were fixed above, so the points move independently, in place), each crack
-            // particle in the centre-of-mass velocity; one without material around it (in
-            // a crack open by more than a cell) moves with its two surface points, so that
-            // it stays between them (as in 2D, `crate::crack`'s Task 7).
-            let cm = |i: usize| centre_of_mass_velocity(this, i);
             let Crack3 { surface, above, below, .. } = &mut *crack;
-            (surface.vertices.par_iter_mut(), above.par_iter_mut(), below.par_iter_mut()).into_par_iter().with_min_len(POINT_CHUNK).for_each(|(x, a, b)| {
-                let va = field_velocity(this, a, &|i| side(i, true));
-                let vb = field_velocity(this, b, &|i| side(i, false));
-                let v = field_velocity(this, x, &cm).unwrap_or_else(|| match (va, vb) {
-                    (Some(va), Some(vb)) => (va + vb) * 0.5,
-                    (Some(v), None) | (None, Some(v)) => v,
-                    (None, None) => Vector3::zeros(),
-                });
-                *a += va.unwrap_or_else(Vector3::zeros) * dt;
-                *b += vb.unwrap_or_else(Vector3::zeros) * dt;
-                *x += v * dt;
-            });
+            (surface.vertices.par_iter_mut(), above.par_iter_mut(), below.par_iter_mut(), wv.par_iter(), wa.par_iter(), wb.par_iter()).into_par_iter().with_min_len(POINT_CHUNK).for_each(
+                |(x, a, b, w_x, w_a, w_b)| {
+                    let va = vel(a, w_a, 0);
+                    let vb = vel(b, w_b, 1);
+                    let v = vel(x, w_x, 2).unwrap_or_else(|| match (va, vb) {
+                        (Some(va), Some(vb)) => (va + vb) * 0.5,
+                        (Some(v), None) | (None, Some(v)) => v,
+                        (None, None) => Vector3::zeros(),
+                    });
+                    *a += va.unwrap_or_else(Vector3::zeros) * dt;
+                    *b += vb.unwrap_or_else(Vector3::zeros) * dt;
+                    *x += v * dt;
+                },
+            );
         }
-        for &(i, _) in &touched {
-            mark[i as usize] = UNSEEN;
+        for t in &touched {
+            slot[t.i as usize] = UNSEEN;
         }
     }
     sim.cracks = cracks;
-    sim.scratch.node_side3 = mark;
+    sim.scratch.node_slot3 = slot;
     sim.scratch.touched3 = touched;
+    sim.scratch.weights3 = weights;
 }
 
 /// Checked mode: no particle near a crack changes side (the 2D check with triangles). A
