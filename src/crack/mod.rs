@@ -402,9 +402,7 @@ impl Simulation {
                     field[k] = 0;
                     if z > 0.0 {
                         frac[k] = 1.0;
-                    }
-                    // A node on the crack's line near a tip: shares by the particle's place.
-                    if z > 0.0 {
+                        // A node on the crack's line near a tip: shares by the particle's place.
                         if let Some((zn, (side, phi))) = zones.iter().filter(|zn| near_zone(zn)).find_map(|zn| tip_zone::on_line(zn, &cracks[zn.crack].points, xp, xn, z, tol).map(|r| (zn, r))) {
                             if side != Side::None {
                                 field[k] = field_of(side);
@@ -456,8 +454,9 @@ impl Simulation {
 
     /// After the Task 1 gather: every node has at most two fields (three — the two faces
     /// and the joined material — for a node on a crack's line inside a crack-tip zone,
-    /// [`tip_zone::on_line`]), and a node with two or more fields gets the crack normal of the crack that split it (the normal of the segment
-    /// nearest the node, directed from above to below, §2.2).
+    /// [`tip_zone::on_line`]), and a node with two or more fields gets the crack normal of
+    /// the crack that split it (the normal of the segment nearest the node, directed from
+    /// above to below, §2.2).
     pub(crate) fn finish_crack_nodes(&mut self) -> Result<(), CheckError> {
         for &node in &self.nodes.active {
             let i = node as usize;
