@@ -45,6 +45,7 @@ pub mod report;
 pub mod scene;
 pub mod scene3d;
 pub mod scene_override;
+pub mod scene_rotate;
 pub mod shape;
 pub mod simd;
 pub mod simulation;

@@ -225,8 +225,8 @@ pub fn williams_displacement(w: &WilliamsSpec, mat: &LinearElastic, x: &[f64]) -
     let (dx, dy) = (x[0] - w.tip[0], x[1] - w.tip[1]);
     let (xl, yl) = (c * dx + s * dy, -s * dx + c * dy);
     let (r, theta) = (xl.hypot(yl), yl.atan2(xl));
-    let u1 = crate::fea::jintegral::williams_displacement(1, r, theta, mu, kappa);
-    let u2 = crate::fea::jintegral::williams_displacement(2, r, theta, mu, kappa);
+    let u1 = crate::fracture::williams::williams_displacement(1, r, theta, mu, kappa);
+    let u2 = crate::fracture::williams::williams_displacement(2, r, theta, mu, kappa);
     let (ct, st) = (theta.cos(), theta.sin());
     let tt = w.t_stress * r / (8.0 * mu);
     let ul = [w.k1 * u1.x + w.k2 * u2.x + tt * (kappa + 1.0) * ct, w.k1 * u1.y + w.k2 * u2.y + tt * (kappa - 3.0) * st];

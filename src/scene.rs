@@ -59,6 +59,10 @@ pub struct Scene {
     /// Line probes: stresses sampled along segments (written by `cramp fea`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub probes: Vec<ProbeSpec>,
+    /// Turn the whole scene about a point, the grid staying ([`crate::scene_rotate`]);
+    /// applied when the file is read, so a built scene never has it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<crate::scene_rotate::RotateSpec>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -232,6 +236,8 @@ pub enum Selection {
     Region { min: [f64; 2], max: [f64; 2] },
     /// Points within a quarter cell of the segment.
     Line { from: [f64; 2], to: [f64; 2] },
+    /// Points inside the polygon or on its edges (even–odd rule; what `rotate` makes of a region).
+    Polygon { points: Vec<[f64; 2]> },
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -467,24 +473,26 @@ impl ShapeSpec {
         match self {
             ShapeSpec::Rectangle { min, max } => x.x >= min[0] && x.x <= max[0] && x.y >= min[1] && x.y <= max[1],
             ShapeSpec::Disk { center, radius } => (x - v(*center)).norm_squared() <= radius * radius,
-            ShapeSpec::Polygon { points } => {
-                // Even–odd ray casting.
-                let mut inside = false;
-                let n = points.len();
-                for i in 0..n {
-                    let a = v(points[i]);
-                    let b = v(points[(i + 1) % n]);
-                    if (a.y > x.y) != (b.y > x.y) {
-                        let xc = a.x + (x.y - a.y) * (b.x - a.x) / (b.y - a.y);
-                        if x.x < xc {
-                            inside = !inside;
-                        }
-                    }
-                }
-                inside
+            ShapeSpec::Polygon { points } => polygon_contains(points, x),
+        }
+    }
+}
+
+/// Even–odd ray casting (a point exactly on an edge may fall either way).
+fn polygon_contains(points: &[[f64; 2]], x: &Vector) -> bool {
+    let mut inside = false;
+    let n = points.len();
+    for i in 0..n {
+        let a = v(points[i]);
+        let b = v(points[(i + 1) % n]);
+        if (a.y > x.y) != (b.y > x.y) {
+            let xc = a.x + (x.y - a.y) * (b.x - a.x) / (b.y - a.y);
+            if x.x < xc {
+                inside = !inside;
             }
         }
     }
+    inside
 }
 
 impl Selection {
@@ -492,7 +500,7 @@ impl Selection {
     /// cell for lines (so a line drawn along a row of nodes or particles selects it).
     pub(crate) fn tolerance(&self, h: f64) -> f64 {
         match self {
-            Selection::Region { .. } => 1e-9 * h,
+            Selection::Region { .. } | Selection::Polygon { .. } => 1e-9 * h,
             Selection::Line { .. } => 0.25 * h,
         }
     }
@@ -509,6 +517,11 @@ impl Selection {
                 let l2 = d.norm_squared();
                 let t = if l2 > 0.0 { ((x - a).dot(&d) / l2).clamp(0.0, 1.0) } else { 0.0 };
                 (x - (a + d * t)).norm() <= tol
+            }
+            Selection::Polygon { points } => {
+                let n = points.len();
+                let on_edge = (0..n).any(|i| Selection::Line { from: points[i], to: points[(i + 1) % n] }.contains(x, tol));
+                on_edge || polygon_contains(points, x)
             }
         }
     }
@@ -579,6 +592,12 @@ fn finite_selection(field: &str, sel: &Selection) -> Result<(), SceneError> {
         Selection::Line { from, to } => {
             finite_all(&format!("{field}.line.from"), from)?;
             finite_all(&format!("{field}.line.to"), to)
+        }
+        Selection::Polygon { points } => {
+            if points.len() < 3 {
+                return Err(invalid(format!("{field}.polygon.points"), format!("needs at least 3 points, got {}", points.len())));
+            }
+            points.iter().enumerate().try_for_each(|(k, p)| finite_all(&format!("{field}.polygon.points[{k}]"), p))
         }
     }
 }
@@ -689,6 +708,7 @@ impl Scene {
     /// Parse and validate TOML text; `origin` names the source in errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Scene, SceneError> {
         let scene: Scene = toml::from_str(text).map_err(|e| SceneError::Parse { path: origin.to_string(), message: e.to_string() })?;
+        let scene = crate::scene_rotate::apply(scene)?;
         scene.validate()?;
         Ok(scene)
     }
@@ -804,6 +824,12 @@ impl Scene {
             if let Some(fr) = &c.fracture {
                 if let Some(r) = fr.circle {
                     positive(&format!("cracks[{i}].fracture.circle"), r)?;
+                }
+                if fr.cod == CodMethod::Interaction && (fr.circle.is_some() || fr.growth.is_some() || fr.area_term) {
+                    return Err(invalid(
+                        format!("cracks[{i}].fracture.cod"),
+                        "\"interaction\" is the static interaction integral on the rectangular contour: not with `circle`, `growth` (moving tips need the speed factors of the opening split) or `area_term` (no inertial term); use \"next_to_tip\" or \"fit\" there",
+                    ));
                 }
                 if fr.contour == 0 {
                     return Err(invalid(format!("cracks[{i}].fracture.contour"), "must be at least 1 (cells from the node nearest the tip)"));

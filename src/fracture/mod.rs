@@ -7,3 +7,4 @@ pub mod growth3;
 pub mod jintegral;
 pub mod nodal;
 pub mod speed;
+pub mod williams;
