@@ -595,3 +595,28 @@ fn cod_fit_on_a_growing_crack_warns() {
     assert!(warnings(r#"{ tips = "end", cod = "fit" }"#).is_empty());
     assert!(warnings(r#"{ tips = "end", growth = { increment = 0.5 } }"#).is_empty());
 }
+
+/// `rotate` (src/scene_rotate.rs): what cannot be turned is named; a turned body that
+/// leaves the grid is refused like any other; a polygon selection needs three points;
+/// the interaction-integral split is refused where it does not apply.
+#[test]
+fn rotate_and_interaction_errors_name_the_field() {
+    let turned = |text: &str, angle: f64| format!("rotate = {{ angle = {angle:?}, about = [0.5, 0.4] }}\n{text}");
+    // The base scene's support is a roller (vy only).
+    assert_eq!(invalid_field(&turned(BASE, 30.0)), "boundary[0].vy");
+    expect(&turned(BASE, 30.0), &["one component", "vx", "vy"]);
+    let clamp = edit("vy = 0.0", "vx = 0.0\nvy = 0.0");
+    Scene::from_toml(&turned(&clamp, 30.0), "turned").unwrap().build().unwrap();
+    let traction = clamp.replace("force = [0.0, -1.0]", "traction = [0.0, -1.0]\nnormal = [0.0, 1.0]");
+    assert_eq!(invalid_field(&turned(&traction, 30.0)), "loads[0].traction");
+    let expr = clamp.replace("vx = 0.0", "vx = \"0.1 * y\"");
+    assert_eq!(invalid_field(&turned(&expr, 30.0)), "boundary[0].vx");
+    assert_eq!(invalid_field(&format!("rotate = {{ angle = nan, about = [0.5, 0.4] }}\n{clamp}")), "rotate");
+    // Turned by 90° about a far point, the body leaves the grid.
+    let far = format!("rotate = {{ angle = 90.0, about = [2.0, 2.0] }}\n{clamp}");
+    assert!(invalid_field(&far).starts_with("bodies[0]"), "{}", error_of(&far));
+    let poly = clamp.replace("particles = { region = { min = [0.2, 0.55], max = [0.8, 0.6] } }", "particles = { polygon = { points = [[0.2, 0.55], [0.8, 0.55]] } }");
+    assert_eq!(invalid_field(&poly), "loads[0].particles.polygon.points");
+    let crack = "\n[[cracks]]\npoints = [[0.1, 0.4], [0.5, 0.4]]\nfracture = { tips = \"end\", cod = \"interaction\", area_term = true }\n";
+    assert_eq!(invalid_field(&format!("{BASE}{crack}")), "cracks[0].fracture.cod");
+}
