@@ -24,6 +24,7 @@ pub mod impact;
 pub mod plates;
 pub mod stability;
 pub mod three_d;
+pub mod rotation;
 pub mod translation;
 pub mod vibrating_bar;
 
@@ -59,6 +60,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "growth_strip_j", run: growth_strip::run_j },
     Case { name: "plates_k", run: plates::run },
     Case { name: "tip_translation", run: translation::run },
+    Case { name: "crack_rotation", run: rotation::run },
     Case { name: "mpm_vs_fea", run: fea::run_mpm_vs_fea },
     Case { name: "fea_penny_3d", run: fea3d::run_penny },
     Case { name: "fea_dcb_3d", run: fea3d::run_dcb3 },
