@@ -9,7 +9,7 @@
 //!
 //! 1. **The K split.** With the interaction integral's ratio (`cod = "interaction"`)
 //!    K_II/K_I at 30° and 45° is at most 2 % (measured 0.96 %, 0.99 %; 15° and 60°: 0.45 %,
-//!    0.32 %), and K_I is √(E′J) (the split keeps J's magnitude); at 0° K_II is 0.
+//!    0.32 %), and K_I is √(E′J) (the split keeps J's magnitude); at 0° K_II is 0 to round-off (3e−16).
 //!    Tolerance: the 2 %; the interaction integral itself recovers an exact
 //!    Williams field to 0.2 % (unit test in src/fracture/jintegral.rs), the rest is the
 //!    discrete field. Negative control: the opening next to the tip, the papers' split,
@@ -64,7 +64,7 @@ fn interaction_split_does_not_see_the_angle() {
         assert!(((t.k1 * t.k1 + t.k2 * t.k2).sqrt() / kj - 1.0).abs() < 1e-12, "{angle}°: the split must keep J's magnitude");
     }
     let (t, _) = sent(0.0, 6.0, CodMethod::Interaction);
-    assert_eq!(t.k2.abs(), 0.0, "0°: a mode I field on a mirror-symmetric contour has K_II = 0 exactly, got {}", t.k2);
+    assert!(t.k2.abs() <= 1e-12 * t.k1, "0°: a mode I field on a mirror-symmetric contour has K_II = 0 to round-off, got {}", t.k2);
     let (t, _) = sent(45.0, 6.0, CodMethod::NextToTip);
     println!("45°, next_to_tip: K_I {:.4}, K_II {:.4}", t.k1, t.k2);
     assert!((t.k2 / t.k1).abs() >= 0.1, "negative control: the next-to-tip opening gave K_II/K_I = {} at 45° (expected ≥ 0.1)", t.k2 / t.k1);
