@@ -81,6 +81,19 @@ impl Subject {
     }
 }
 
+/// A half plate's file made the whole free plate [−b, b] × [−H, H] (`half` = [b, H]): no
+/// supports, the end particle rows (h/2 deep) pulled by ±`force`, the crack from −a to a.
+fn whole_plate(file: SceneFile, half: [f64; 2], h: f64, force: f64, a: f64) -> SceneFile {
+    let [b, t] = half;
+    file.set("boundary", "[]")
+        .set("bodies.0.shape", format!("{{ rectangle = {{ min = [{:?}, {:?}], max = [{b:?}, {t:?}] }} }}", -b, -t))
+        .set("loads.0.particles.region", format!("{{ min = [{:?}, {:?}], max = [{b:?}, {t:?}] }}", -b, t - 0.5 * h))
+        .set("loads.1.particles.region", format!("{{ min = [{:?}, {:?}], max = [{b:?}, {:?}] }}", -b, -t, -t + 0.5 * h))
+        .set("loads.0.force", format!("[0.0, {force:?}]"))
+        .set("loads.1.force", format!("[0.0, {:?}]", -force))
+        .set("cracks.0.points", format!("[[{:?}, 0.0], [{a:?}, 0.0]]", -a))
+}
+
 fn plate(kind: PlateKind, h: f64) -> Subject {
     let a = kind.crack_length(h);
     match kind {
@@ -100,15 +113,7 @@ fn plate(kind: PlateKind, h: f64) -> Subject {
         },
         PlateKind::Cct => Subject {
             name: format!("CCT (whole plate) h = {h} mm"),
-            file: kind
-                .scene_file(h, a, 0.0)
-                .set("boundary", "[]")
-                .set("bodies.0.shape", "{ rectangle = { min = [-10.0, -30.0], max = [10.0, 30.0] } }")
-                .set("loads.0.particles.region", format!("{{ min = [-10.0, {}], max = [10.0, 30.0] }}", 30.0 - 0.5 * h))
-                .set("loads.1.particles.region", format!("{{ min = [-10.0, -30.0], max = [10.0, {}] }}", -30.0 + 0.5 * h))
-                .set("loads.0.force", "[0.0, 20.0]")
-                .set("loads.1.force", "[0.0, -20.0]")
-                .set("cracks.0.points", format!("[[{}, 0.0], [{a}, 0.0]]", -a))
+            file: whole_plate(kind.scene_file(h, a, 0.0), [10.0, 30.0], h, 20.0, a)
                 .set("solver.damping_on", "\"particles\"")
                 .set("solver.end_time", 1.0),
             h,
@@ -168,14 +173,7 @@ fn chen() -> Subject {
     let h = 0.25;
     Subject {
         name: "Chen's plate (whole, 40 mm wide, free sides) h = 0.25 mm".into(),
-        file: chen_file(h, 3.45)
-            .set("boundary", "[]")
-            .set("bodies.0.shape", "{ rectangle = { min = [-20.0, -20.0], max = [20.0, 20.0] } }")
-            .set("loads.0.particles.region", format!("{{ min = [-20.0, {}], max = [20.0, 20.0] }}", 20.0 - 0.5 * h))
-            .set("loads.1.particles.region", format!("{{ min = [-20.0, -20.0], max = [20.0, {}] }}", -20.0 + 0.5 * h))
-            .set("loads.0.force", "[0.0, 0.016]")
-            .set("loads.1.force", "[0.0, -0.016]")
-            .set("cracks.0.points", format!("[[{}, 0.0], [{A}, 0.0]]", -A)),
+        file: whole_plate(chen_file(h, 3.45), [20.0, 20.0], h, 0.016, A),
         h,
         origin: [-20.0 - 2.0 * h, -21.0],
         size: [40.0 + 4.0 * h, 42.0],
