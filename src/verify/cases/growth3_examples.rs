@@ -323,13 +323,12 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let moves = r.records.iter().filter(|x| x.grew).count();
     let max_nodes = r.fronts.iter().map(|f| f.nodes).max().unwrap_or(0);
     out.note(format!(
-        "Run: {} particles, {} of {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. \
+        "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. \
          Growth from t = {:.4} ms (check at step {}): {} node moves; front nodes {} at the start, at most {}, {} at the end \
          ({} front edges; {} splits, {} merges, {} edges pruned at the boundary; node status at the last check {:?}). \
          Crack surface {} → {} triangles, {} → {} crack particles.",
         r.particles,
         r.steps,
-        (r.end_time / (r.time / r.steps.max(1) as f64)).round(),
         r.time,
         r.end_time,
         r.seconds,
@@ -403,6 +402,19 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
          the middle 50 mm of the rod in grey.",
         spec,
         Plot::Surfaces { panels, view, columns: 3 },
+    );
+    let plan: Vec<SurfacePanel> = spread(&r.snapshots, 6)
+        .into_iter()
+        .map(|s| SurfacePanel { caption: format!("t = {:.1} µs", s.time * 1e3), triangles: s.triangles, edges: box_edges([0.0, 0.0, 0.0], [50.0, 50.0, 0.0]), front: s.front })
+        .collect();
+    let mut spec = PlotSpec::new("Corner crack in the rod: plan view (section 50 × 50 mm; front in black)", "", "");
+    spec.size = (1500, 1100);
+    out.figure(
+        "corner_crack_rod_plan.png",
+        "The same surfaces seen from above (+z): the front sweeping the square section from its corner at the lower left; the \
+         diagonal x + y = 50 mm runs between the lower-right and upper-left corners.",
+        spec,
+        Plot::Surfaces { panels: plan, view: View { azimuth: -90.0, elevation: 90.0, axis: [0.0, 0.0, 1.0], max_tilt: 45.0 }, columns: 3 },
     );
     out.figure(
         "corner_crack_rod_mixity.png",
