@@ -79,3 +79,48 @@ fn free_face_fronts_grow_through_the_slab() {
     }
     assert!(sim.cracks[0].front.is_empty(), "every front edge reached the far edge and was pruned");
 }
+
+/// Front ends on the free faces of an inclined corner crack (growth3 module doc, item 5;
+/// the front rule of `Scene3::crack_surfaces`): a copy of `corner_crack_rod_3d.toml`
+/// scaled by ½ (rod 20 × 20 × 40 mm, plan radius 8 mm, 2 mm cells, 16,000 particles).
+/// The crack's edge meets the faces y = 0 and x = 0 at (8, 0, −2.31) and (0, 8, −2.31).
+/// Before the front rule kept the last edge at each face, the point half a cell beyond
+/// that short edge (in the inclined plane) lay outside the rod, so the front ended one
+/// edge short of each face and a strip along the face never cracked (the full rod then
+/// failed at step 60 with a face node needing three velocity fields). Now the face
+/// vertices are front ends, and they grow along their faces: they move at their checks
+/// like their neighbours (not stopped at their first move) and stay on the face.
+#[test]
+fn corner_crack_front_ends_grow_along_free_faces() {
+    let t = (30f64).to_radians().tan();
+    let c = 4.0 * t;
+    let a = 8.0 * (1.0 + 2.0 * t * t).sqrt();
+    let scene = SceneFile::new("corner_crack_rod_3d.toml")
+        .set("grid.origin", "[-4.0, -4.0, -24.0]")
+        .set("grid.size", "[28.0, 28.0, 48.0]")
+        .set("bodies.0.shape", "{ box = { min = [0.0, 0.0, -20.0], max = [20.0, 20.0, 20.0] } }")
+        .set("loads.0.particles", "{ box = { min = [-1.0, -1.0, 19.0], max = [21.0, 21.0, 20.0] } }")
+        .set("loads.1.particles", "{ box = { min = [-1.0, -1.0, -20.0], max = [21.0, 21.0, -19.0] } }")
+        .set("cracks.0.surface", &format!("{{ ellipse = {{ center = [0.0, 0.0, {c}], normal = [{t}, {t}, 1.0], axis = [1.0, 1.0, 0.0], a = {a}, b = 8.0 }} }}"))
+        .set("solver.end_time", "0.009")
+        .load3()
+        .unwrap();
+    let mut sim = scene.build().unwrap();
+    let crack = &sim.cracks[0];
+    let on_face = |x: &cramp::dim::Vector3| x.x.abs() < 1e-9 || x.y.abs() < 1e-9;
+    let ends: Vec<u32> = crack.front.iter().flatten().copied().filter(|&v| on_face(&crack.surface.vertices[v as usize])).collect();
+    assert_eq!(ends.len(), 2, "one front node on each face: {ends:?}");
+    sim.run_until(scene.solver.end_time, |_| {}).unwrap();
+    let g = sim.growth.as_ref().unwrap();
+    let labels: std::collections::BTreeSet<u32> = g.records.iter().filter(|r| r.step == g.records[0].step && on_face(&r.x)).map(|r| r.label).collect();
+    assert_eq!(labels.len(), 2, "the two face nodes are growth nodes");
+    let all_moves = g.records.iter().filter(|r| r.grew).count() as f64 / g.records.iter().map(|r| r.label).collect::<std::collections::BTreeSet<_>>().len() as f64;
+    for l in labels {
+        let rows: Vec<_> = g.records.iter().filter(|r| r.label == l).collect();
+        let moves = rows.iter().filter(|r| r.grew).count();
+        assert!(moves >= 2 && moves as f64 >= 0.5 * all_moves, "face node {l} moved {moves} times (mean over the front {all_moves:.2})");
+        assert!(rows.iter().all(|r| r.status == cramp::fracture::growth3::NodeStatus::Growing), "face node {l} stopped");
+        let off = rows.iter().map(|r| r.x.x.abs().min(r.x.y.abs())).fold(0.0, f64::max);
+        assert!(off < 0.1, "face node {l} left its face by {off} mm");
+    }
+}

@@ -88,6 +88,10 @@ pub enum Plot {
     /// A particle snapshot: (x, y, value) coloured by value, with polylines (cracks)
     /// over it ([`crate::report::particles::particle_plot`]; the spec's title and width are used).
     Particles { particles: Vec<(f64, f64, f64)>, lines: Vec<Vec<(f64, f64)>>, value_label: String },
+    /// 3D crack surfaces, one panel per time, in an oblique projection coloured by the
+    /// tilt from the view's axis ([`crate::report::surface3::surface_panels`]; the spec's
+    /// title and width are used).
+    Surfaces { panels: Vec<crate::report::surface3::SurfacePanel>, view: crate::report::surface3::View, columns: usize },
 }
 
 /// A figure: a PNG file name (within the report directory), a caption and its data.

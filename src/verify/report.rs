@@ -113,6 +113,7 @@ pub fn draw(dir: &Path, f: &Figure) -> anyhow::Result<()> {
         Plot::Particles { particles, lines, value_label } => {
             crate::report::particles::particle_plot(&path, &f.spec.title, value_label, particles, lines, f.spec.size.0)
         }
+        Plot::Surfaces { panels, view, columns } => crate::report::surface3::surface_panels(&path, &f.spec.title, panels, *view, *columns, f.spec.size.0),
     }
     .with_context(|| format!("drawing {}", path.display()))
 }

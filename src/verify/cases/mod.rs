@@ -19,6 +19,7 @@ pub mod front_dynamic;
 pub mod front_path;
 pub mod growth;
 pub mod growth3;
+pub mod growth3_examples;
 pub mod growth_strip;
 pub mod impact;
 pub mod plates;
@@ -75,6 +76,8 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "front_j_penny", run: front3::run_penny },
     Case { name: "front_growth_slab", run: growth3::run_slab },
     Case { name: "front_growth_penny", run: growth3::run_penny },
+    Case { name: "corner_crack_rod", run: growth3_examples::run_rod },
+    Case { name: "tube_crack", run: growth3_examples::run_tube },
     Case { name: "front_j_path", run: front_path::run },
     Case { name: "front_j_dcb", run: front_dcb::run },
     Case { name: "front_k_dynamic", run: front_dynamic::run },
