@@ -197,6 +197,11 @@ fn bench_step_3d(c: &mut Criterion) {
 /// Branch ovh2 (same bits): 287.5 M → 268.1 M (1.21×; README, Performance).
 /// Branch ovh3 (same bits): 268.1 M → 241.6 M at steps 2–6 (1.094× of 220.9 M); at steps
 /// 100–104 550.0 → 553.7 M against 395.2 M (1.40×; README, Performance).
+/// Branch ovh4 (`scripts/window3d.sh`, instructions over the window only): steps 101–104
+/// 554.1 M against 395.1 M (1.40×) → 433.9 M against 399.4 M (1.086×), steps 3–6 244.9 M
+/// against 223.9 M (1.094×): the crack now stays on y = 0 (the mirror-symmetric shape
+/// functions of `shape::axis_weights`, which move bits), and Task 1 handles the boxes its
+/// plane cuts cheaply (same bits; README, Performance).
 fn bench_crack_3d(c: &mut Criterion) {
     let path = format!("{}/verification/dcb_perf_3d.toml", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();

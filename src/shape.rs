@@ -3,7 +3,9 @@
 //!
 //! Both are tensor products of 1D functions of the signed distance ξ = x_p − x_i, and
 //! both are written as functions of |ξ| with the sign applied to the gradient only, so a
-//! particle mirrored about a grid line gets mirrored weights to the bit.
+//! particle mirrored about a grid line gets mirrored weights to the bit; and the nodes
+//! kept are those with a non-zero weight, decided the same way (`axis_weights`), so it gets
+//! the mirrored nodes too.
 
 use crate::dim::{Vector, Vector3};
 use crate::grid::{Grid, Grid3};
@@ -72,18 +74,6 @@ fn ugimp_1d(xi: f64, h: f64, lp: f64) -> (f64, f64) {
     }
 }
 
-/// Range of node indices (along one axis) whose support can contain coordinate `x`:
-/// returns (first index, count). `reach` is the support half-width minus the cell size
-/// (0 for linear, lp for uGIMP).
-#[inline]
-fn node_range(x: f64, x0: f64, h: f64, reach: f64, n_cells: usize) -> (isize, usize) {
-    let lo = floor_to_isize((x - reach - x0) / h);
-    let hi = floor_to_isize((x + reach - x0) / h) + 1;
-    let lo = lo.max(0);
-    let hi = hi.min(n_cells as isize);
-    (lo, (hi - lo + 1).max(0) as usize)
-}
-
 /// ⌊v⌋ as an integer, the same as `v.floor() as isize` for every v (NaN gives 0, and
 /// values beyond ±2^63 saturate, as the cast does), without the call to libm's software
 /// `floor` that the baseline x86-64 target needs: truncate, then step down for a negative
@@ -113,10 +103,25 @@ fn axis_weights(
     out: &mut [(f64, f64); 3],
     idx: &mut [usize; 3],
 ) -> usize {
-    let (i0, count) = node_range(x, x0, h, reach, n_cells);
+    // The nodes whose support can hold x: ⌊(x − reach − x0)/h⌋ … ⌊(x + reach − x0)/h⌋ + 1.
+    // These quotients round differently for a particle and its mirror image about a grid
+    // plane, so a node at the very edge of the support (|ξ| within round-off of h + reach,
+    // weight ≈ 0 but not 0) could be found on one side and missed on the other. So when a
+    // quotient lies within round-off of an integer, the neighbouring node is a candidate
+    // too, and the weight functions, which decide from |ξ| alone and mirror exactly, keep
+    // the nodes with a non-zero weight (at most 3: the support is at most 3h wide).
+    let (ql, qh) = ((x - reach - x0) / h, (x + reach - x0) / h);
+    let (lo, hi) = (floor_to_isize(ql), floor_to_isize(qh) + 1);
+    // The quotients' round-off is a few ulps of n_cells, far below EDGE.
+    const EDGE: f64 = 1e-6;
+    let first = if ql - (lo as f64) < EDGE { lo - 1 } else { lo }.max(0);
+    let last = if qh - ((hi - 1) as f64) > 1.0 - EDGE { hi + 1 } else { hi }.min(n_cells as isize);
     let mut k = 0;
-    for a in 0..count.min(3) {
-        let i = (i0 as usize) + a;
+    for i in first..=last {
+        if k == 3 {
+            break;
+        }
+        let i = i as usize;
         let xi = x - (x0 + i as f64 * h);
         let v = match kind {
             ShapeKind::Linear => linear_1d(xi, h),

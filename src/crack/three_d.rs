@@ -170,7 +170,12 @@ fn rebuild_indices(sim: &mut Simulation<D3>) {
 /// consecutive particles of one cell often share B and their nodes) the bucket index lists
 /// them with the exact side of their plane of every node where that is cheap (axis planes),
 /// then per particle its exact side once, and each node whose side differs and whose
-/// segment passes through the triangle's padded box. When every triangle lies in an axis
+/// segment passes through the triangle's padded box. For an axis-plane triangle that is
+/// two-sided too, a node in its plane can only get rule 3's verdict (the segment meets the
+/// plane at the node alone), so it takes that from [`NodeOnIndex`] as above, and a node
+/// strictly on the other side is tested only when the point where its segment meets the
+/// plane lies in the padded box (the crossing points are computed once per particle and
+/// plane, [`PlaneCrossings`]). When every triangle lies in an axis
 /// plane and no plane cuts B ([`TriangleIndex::may_be_two_sided`]), there is no two-sided
 /// triangle and the bucket query is skipped. The verdicts are accumulated per node in any
 /// order ([`Crossing3`] does not depend on it), so the result is [`Crossing3`]'s over all
@@ -241,6 +246,8 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
             let all = (1u32 << xn.len()) - 1;
             let candidates = &mut cache.candidates;
             candidates.clear();
+            let cross = &mut cache.cross;
+            cross.plane = None;
             for e in near {
                 let op = match e.axis {
                     Some((a, level, o)) => o * sign(xp[a] - level),
@@ -249,15 +256,30 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                         side_of_plane(v[0], v[1], v[2], &xp)
                     }
                 };
-                let other = match op {
-                    _ if e.axis.is_none() && op != 0 => all,
-                    1 => e.neg | e.zero,
-                    -1 => e.pos | e.zero,
-                    _ => 0,
+                // (An axis-plane triangle's nodes in its plane take rule 3's verdict from
+                // [`NodeOnIndex`] below, two-sided or not: only the nodes strictly on the
+                // other side can be crossed properly.)
+                let other = match (e.axis.is_some(), op) {
+                    (_, 0) => 0,
+                    (false, _) => all,
+                    (true, 1) => e.neg,
+                    (true, _) => e.pos,
                 };
-                if other != 0 {
-                    candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, zero: e.zero, sides_known: e.axis.is_some(), ge: e.ge, le: e.le });
+                if other == 0 {
+                    continue;
                 }
+                if let Some((a, level, _)) = e.axis {
+                    // Skip the triangle when the crossing points of all the nodes on the
+                    // other side miss its padded box.
+                    if cross.plane != Some((a, level)) {
+                        cross.set(a, level, &xp, xn);
+                    }
+                    let (b, c, [pl, ph]) = ((a + 1) % 3, (a + 2) % 3, &e.padded);
+                    if cross.hi[0] < pl[b] || cross.lo[0] > ph[b] || cross.hi[1] < pl[c] || cross.lo[1] > ph[c] {
+                        continue;
+                    }
+                }
+                candidates.push(Candidate { padded: e.padded, t: e.t, op, other, pos: e.pos, axis: e.axis, ge: e.ge, le: e.le });
             }
             // Each candidate's verdicts for the nodes on its other side whose segment
             // from the particle meets its padded box (per axis from the box's distinct
@@ -268,30 +290,52 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
             let accs = &mut cache.accs;
             let mut written = 0u32;
             for q in candidates.iter() {
-                // The segment's box meets the padded box along axis a iff (x_p ≥ lo or
-                // x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
                 let mut m = q.other & pending;
-                for a in 0..3 {
-                    if xp[a] < q.padded[0][a] {
-                        m &= q.ge[a];
+                match q.axis {
+                    // An axis-plane triangle x_a = level, node strictly on the other side:
+                    // the segment meets the plane at one point X only, so it can meet the
+                    // triangle only if X lies in its box. X is computed per node once per
+                    // plane ([`PlaneCrossings`]), within a few ulps of the coordinates, far
+                    // inside the padding (as for `segment_may_meet`), so no meeting segment
+                    // is rejected.
+                    Some((a, level, _)) => {
+                        let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+                        if cross.plane != Some((a, level)) {
+                            cross.set(a, level, &xp, xn);
+                        }
+                        while m != 0 {
+                            let k = m.trailing_zeros() as usize;
+                            m &= m - 1;
+                            let xn = &xn[k];
+                            let [xb, xc] = cross.x[k];
+                            let [pl, ph] = &q.padded;
+                            if xb >= pl[b] && xb <= ph[b] && xc >= pl[c] && xc <= ph[c] {
+                                written |= 1 << k;
+                                let on = if q.pos & 1 << k != 0 { 1 } else { -1 };
+                                accs[k].add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
+                            }
+                        }
                     }
-                    if xp[a] > q.padded[1][a] {
-                        m &= q.le[a];
-                    }
-                }
-                while m != 0 {
-                    let k = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    let xn = &xn[k];
-                    let seg = [xp.inf(xn), xp.sup(xn)];
-                    if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
-                        written |= 1 << k;
-                        if q.sides_known {
-                            let bit = 1u32 << k;
-                            let on = if q.zero & bit != 0 { 0 } else if q.pos & bit != 0 { 1 } else { -1 };
-                            accs[k].add_with_sides(&view, q.t as usize, &xp, xn, q.op, on);
-                        } else {
-                            accs[k].add_with_side(&view, q.t as usize, &xp, xn, q.op);
+                    None => {
+                        // The segment's box meets the padded box along axis a iff (x_p ≥ lo
+                        // or x_n ≥ lo) and (x_p ≤ hi or x_n ≤ hi).
+                        for a in 0..3 {
+                            if xp[a] < q.padded[0][a] {
+                                m &= q.ge[a];
+                            }
+                            if xp[a] > q.padded[1][a] {
+                                m &= q.le[a];
+                            }
+                        }
+                        while m != 0 {
+                            let k = m.trailing_zeros() as usize;
+                            m &= m - 1;
+                            let xn = &xn[k];
+                            let seg = [xp.inf(xn), xp.sup(xn)];
+                            if TriangleIndex::segment_may_meet(&q.padded[0], &q.padded[1], &seg, &xp, xn) {
+                                written |= 1 << k;
+                                accs[k].add_with_side(&view, q.t as usize, &xp, xn, q.op);
+                            }
                         }
                     }
                 }
@@ -300,23 +344,16 @@ fn assign_velocity_fields(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
                 if field[k] != 0 {
                     continue;
                 }
-                // One-sided triangles (B on one side of the plane): the lowest that holds
-                // the node in its plane and closed area with the particle off its plane
-                // ([`NodeOnIndex`], in increasing triangle index).
+                // Axis-plane triangles: the lowest that holds the node in its plane and
+                // closed area with the particle off its plane ([`NodeOnIndex`], in
+                // increasing triangle index).
                 let mut own = None;
-                {
-                    for t in holding.triangles_holding(ni) {
-                        let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
-                        // lo_a ≤ level ≤ hi_a (the node is in B): one-sided iff B touches
-                        // the plane from one side only.
-                        if (lo[a] == level) == (hi[a] == level) {
-                            continue;
-                        }
-                        let op = o * sign(xp[a] - level);
-                        if op != 0 {
-                            own = Some((t as usize, op));
-                            break;
-                        }
+                for t in holding.triangles_holding(ni) {
+                    let Some((a, level, o)) = index[c].axis_plane(t as usize) else { continue };
+                    let op = o * sign(xp[a] - level);
+                    if op != 0 {
+                        own = Some((t as usize, op));
+                        break;
                     }
                 }
                 let side = if written & 1 << k != 0 {
@@ -371,22 +408,62 @@ struct CellCache {
     /// Per node position, the crossing verdicts of the current particle's candidates
     /// (default between particles).
     accs: [Crossing3; D3::MAX_NODES],
+    /// The current particle's segments' crossing points with one axis plane.
+    cross: PlaneCrossings,
+}
+
+/// Where the segments from the current particle to its nodes strictly on the other side
+/// of the axis plane x_a = level (`plane`) meet that plane: per node position the two other
+/// coordinates (axes a + 1, a + 2 mod 3) of the crossing point, and their box (`lo`, `hi`).
+struct PlaneCrossings {
+    plane: Option<(usize, f64)>,
+    x: [[f64; 2]; D3::MAX_NODES],
+    lo: [f64; 2],
+    hi: [f64; 2],
+}
+
+impl Default for PlaneCrossings {
+    fn default() -> Self {
+        PlaneCrossings { plane: None, x: [[0.0; 2]; D3::MAX_NODES], lo: [f64::INFINITY; 2], hi: [f64::NEG_INFINITY; 2] }
+    }
+}
+
+impl PlaneCrossings {
+    /// The crossing points of the segments from particle `xp` to the nodes `xn` strictly on
+    /// the other side of x_a = level.
+    fn set(&mut self, a: usize, level: f64, xp: &Vector3, xn: &[Vector3]) {
+        let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+        self.plane = Some((a, level));
+        (self.lo, self.hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let sp = sign(xp[a] - level);
+        for (k, n) in xn.iter().enumerate() {
+            if sp != 0 && sign(n[a] - level) == -sp {
+                let s = (level - xp[a]) / (n[a] - xp[a]);
+                let x = [xp[b] + s * (n[b] - xp[b]), xp[c] + s * (n[c] - xp[c])];
+                for j in 0..2 {
+                    self.lo[j] = self.lo[j].min(x[j]);
+                    self.hi[j] = self.hi[j].max(x[j]);
+                }
+                self.x[k] = x;
+            }
+        }
+    }
 }
 
 /// A two-sided triangle whose bounding box meets B (B not on one side of its plane): its
 /// index, padded box ([`TriangleIndex::padded_box`]), and, for a triangle in an axis plane,
-/// the nodes (bits by position in the particle's node list) above, below and in its plane.
+/// the nodes (bits by position in the particle's node list) above and below its plane.
 struct NearTriangle {
     t: u32,
     padded: [Vector3; 2],
     pos: u32,
     neg: u32,
-    zero: u32,
     /// For a triangle in an axis plane: the axis, the plane's level, and the sign of the
     /// normal's component along the axis (so a point's side is that sign times the sign
     /// of x_axis − level, exactly: the triple product reduces to that component).
     axis: Option<(usize, f64, i8)>,
-    /// Per axis a, the nodes with x_a ≥ the padded box's lower bound, and ≤ its upper.
+    /// Per axis a, the nodes with x_a ≥ the padded box's lower bound, and ≤ its upper
+    /// (oblique triangles only).
     ge: [u32; 3],
     le: [u32; 3],
 }
@@ -404,9 +481,11 @@ struct NearTriangle {
 /// closed triangle, the particle off the plane, with the particle's side. Such a node lies
 /// in T's bounding box, so T meets B whatever B is, and [`crossing3::node_in_triangle`]
 /// does not depend on the particle (any point off the plane gives its answer), so the
-/// pairs can be listed once per crack position for all boxes. Of a node's rule-3 verdicts
-/// only the lowest triangle counts ([`Crossing3::add_node_on`]), so the scan stops at the
-/// first one-sided triangle with the particle off its plane.
+/// pairs can be listed once per crack position for all boxes. The same holds for a node in
+/// the plane of a triangle whose plane cuts B (two-sided): a segment from a particle off
+/// the plane meets the plane only at the node, so rule 3's verdict is again the only one.
+/// Of a node's rule-3 verdicts only the lowest triangle counts ([`Crossing3::add_node_on`]),
+/// so the scan stops at the first triangle with the particle off its plane.
 ///
 /// [`crossing3::node_in_triangle`]: super::crossing3::node_in_triangle
 #[derive(Clone, Debug, Default)]
@@ -566,7 +645,7 @@ impl CellCache {
         self.near.clear();
         let (near, coords) = (&mut self.near, &self.coords);
         index.near(lo, hi, |t| {
-            let mut e = NearTriangle { t: t as u32, padded: index.padded_box(t), pos: 0, neg: 0, zero: 0, axis: None, ge: [0; 3], le: [0; 3] };
+            let mut e = NearTriangle { t: t as u32, padded: index.padded_box(t), pos: 0, neg: 0, axis: None, ge: [0; 3], le: [0; 3] };
             // A triangle in an axis plane x_a = level is classified here (exactly and
             // cheaply); the others take the general test.
             if let Some((a, level, o)) = index.axis_plane(t) {
@@ -580,9 +659,13 @@ impl CellCache {
                     match o * sign(x - level) {
                         1 => e.pos |= bits,
                         -1 => e.neg |= bits,
-                        _ => e.zero |= bits,
+                        _ => {}
                     }
                 }
+                // (Its candidates test where the segments meet the plane instead of `ge`
+                // and `le`.)
+                near.push(e);
+                return;
             }
             // Per axis, the nodes at or above the padded box's lower bound and at or below
             // its upper (for the candidates' segment-box test).
@@ -609,17 +692,17 @@ fn sign(x: f64) -> i8 {
 }
 
 /// A two-sided triangle near a particle in Task 1: its padded bounding box, index, the
-/// particle's exact side of its plane, the nodes on another side (`other`), and the
-/// nodes above it and in its plane.
+/// particle's exact side of its plane, and the nodes whose verdict it may give (`other`:
+/// for an axis-plane triangle the nodes strictly on the other side, else all).
 struct Candidate {
     padded: [Vector3; 2],
     t: u32,
     op: i8,
     other: u32,
     pos: u32,
-    zero: u32,
-    /// Whether `pos` and `zero` hold the nodes' sides (axis-plane triangles).
-    sides_known: bool,
+    /// For an axis-plane triangle, as in [`NearTriangle`] (then `pos` holds the nodes
+    /// above it).
+    axis: Option<(usize, f64, i8)>,
     /// As in [`NearTriangle`].
     ge: [u32; 3],
     le: [u32; 3],
