@@ -3,6 +3,8 @@
 //! Instructions per particle-step are the difference of two runs with different STEPS
 //! divided by (difference of steps × particles): setup and the first steps cancel.
 //! The state hash covers every bit of x, v, σ, ε and ∇u: equal hashes, equal bits.
+#[path = "common/state_hash.rs"]
+mod state_hash;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
@@ -20,29 +22,10 @@ fn main() -> anyhow::Result<()> {
     }
     let wall = t.elapsed().as_secs_f64();
     let p = sim.total_momentum();
-    let mut hash = 0xcbf29ce484222325u64;
-    let mut eat = |x: f64| {
-        for b in x.to_bits().to_le_bytes() {
-            hash = (hash ^ b as u64).wrapping_mul(0x100000001b3);
-        }
-    };
-    let q = &sim.particles;
-    for i in 0..q.len() {
-        for c in 0..3 {
-            eat(q.x[i][c]);
-            eat(q.v[i][c]);
-        }
-        let (s, e) = (&q.stress[i], &q.strain[i]);
-        for x in [s.xx, s.yy, s.zz, s.xy, s.xz, s.yz, e.xx, e.yy, e.zz, e.xy, e.xz, e.yz] {
-            eat(x);
-        }
-        for x in q.grad_u[i].iter() {
-            eat(*x);
-        }
-    }
+    let hash = state_hash::state_hash(&sim);
     println!("state hash {hash:016x}");
     let pairs: usize = sim.pairs.count.iter().map(|&c| c as usize).sum();
-    println!("{:.2} pairs per particle, {} active nodes", pairs as f64 / q.len() as f64, sim.nodes.active.len());
+    println!("{:.2} pairs per particle, {} active nodes", pairs as f64 / sim.particles.len() as f64, sim.nodes.active.len());
     println!(
         "{} particles, {} steps, {:.3} s, {:.3} M particle-steps/s; t = {}, P = {:?}, |P| = {:e}, E = {:?}",
         sim.particles.len(),

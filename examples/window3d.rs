@@ -6,6 +6,8 @@
 //! instrumentation on at "ready" and off at "done", so the warm-up runs at near native
 //! speed and only the window is counted (rayon's worker thread included, which a
 //! `--toggle-collect` on the calling function would miss).
+#[path = "common/state_hash.rs"]
+mod state_hash;
 use std::io::Write;
 
 #[inline(never)]
@@ -43,26 +45,7 @@ fn main() -> anyhow::Result<()> {
             std::thread::sleep(std::time::Duration::from_millis(100));
         }
     }
-    let mut hash = 0xcbf29ce484222325u64;
-    let mut eat = |x: f64| {
-        for b in x.to_bits().to_le_bytes() {
-            hash = (hash ^ b as u64).wrapping_mul(0x100000001b3);
-        }
-    };
-    let q = &sim.particles;
-    for i in 0..q.len() {
-        for c in 0..3 {
-            eat(q.x[i][c]);
-            eat(q.v[i][c]);
-        }
-        let (s, e) = (&q.stress[i], &q.strain[i]);
-        for x in [s.xx, s.yy, s.zz, s.xy, s.xz, s.yz, e.xx, e.yy, e.zz, e.xy, e.xz, e.yz] {
-            eat(x);
-        }
-        for x in q.grad_u[i].iter() {
-            eat(*x);
-        }
-    }
+    let hash = state_hash::state_hash(&sim);
     println!("state hash {hash:016x} after {} steps", warm + steps);
     Ok(())
 }
