@@ -354,16 +354,7 @@ impl Simulation {
         }
         let j_line = Vector::new(jx.value(), jy.value());
         let j_area = if area_term { self.area_term(&path) } else { Vector::zeros() };
-        let mut result = self.tip_result(c, end, j_line, j_area, cod, speed)?;
-        if cod == CodMethod::Interaction {
-            // G = J₁ split in the ratio of the interaction integral's K_I : K_II (the
-            // magnitude stays J's, the energy the discrete crack releases).
-            let mat = self.material_near(tip).ok_or(FractureError::NoMaterial { crack: c })?;
-            let (i1, i2) = interaction_k(&pts, tip, d, e2, mat);
-            let sf = speed_factors_for(mat, speed).map_err(|source| FractureError::Speed { crack: c, end, source })?;
-            (result.k1, result.k2) = partition_k(result.j1, i1, i2, mat.shear_modulus(), sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
-        }
-        Ok(result)
+        self.tip_result(c, end, j_line, j_area, cod, speed, Some(&pts))
     }
 
     /// The tip of crack c at `end`, its unit direction e₁′ (along the last segment, out of
@@ -382,7 +373,11 @@ impl Simulation {
 
     /// The row of a tip from its J (line term and area term, global components): J₁, J₂
     /// in the tip's frame, the crack-opening displacements and the K split (eqs. 14–15).
-    fn tip_result(&self, c: usize, end: TipEnd, j_line: Vector, j_area: Vector, cod: CodMethod, speed: f64) -> Result<TipResult, FractureError> {
+    /// With [`CodMethod::Interaction`] and the cut contour `pts`, G is split in the
+    /// interaction integral's K_I : K_II ratio (the magnitude stays J's, the energy the
+    /// discrete crack releases); without `pts` (the circle) by the opening next to the tip.
+    #[allow(clippy::too_many_arguments)]
+    fn tip_result(&self, c: usize, end: TipEnd, j_line: Vector, j_area: Vector, cod: CodMethod, speed: f64, pts: Option<&[ContourPoint]>) -> Result<TipResult, FractureError> {
         let crack = &self.cracks[c];
         let (tip, d, e2, next_to_tip) = self.tip_frame(c, end);
         let upper_is_above = end == TipEnd::End;
@@ -403,7 +398,11 @@ impl Simulation {
         let mat = self.material_near(tip).ok_or(FractureError::NoMaterial { crack: c })?;
         let sf = speed_factors_for(mat, speed).map_err(|source| FractureError::Speed { crack: c, end, source })?;
         let g = j.dot(&d);
-        let (k1, k2) = partition_k(g, delta_i, delta_ii, mat.shear_modulus(), sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
+        let (s1, s2) = match (cod, pts) {
+            (CodMethod::Interaction, Some(pts)) => interaction_k(pts, tip, d, e2, mat),
+            _ => (delta_i, delta_ii),
+        };
+        let (k1, k2) = partition_k(g, s1, s2, mat.shear_modulus(), sf.beta_d, sf.beta_s, sf.a_i, sf.a_ii);
         Ok(TipResult {
             time: self.time,
             crack: c,
@@ -626,7 +625,7 @@ impl Simulation {
         let Some(radius) = req.circle else { return self.tip_fracture(c, end, req.contour, req.area_term, req.cod, speed) };
         let (_, d, e2, _) = self.tip_frame(c, end);
         let (j1, j2) = self.circle_j_2d(c, end, radius, 16);
-        self.tip_result(c, end, d * j1 + e2 * j2, Vector::zeros(), req.cod, speed)
+        self.tip_result(c, end, d * j1 + e2 * j2, Vector::zeros(), req.cod, speed, None)
     }
 
     /// Fracture parameters at every requested tip (`requests[c]` for crack c), with each

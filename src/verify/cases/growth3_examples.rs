@@ -264,6 +264,20 @@ fn mb(bytes: Option<u64>) -> String {
 }
 
 /// Pick about `n` snapshots spread over the run (always the first and the last).
+/// Six snapshots spread over the run as picture panels with the scene's `edges` in grey,
+/// captioned with the time (and the step, when `with_step`).
+fn surface_panels(snapshots: &[Snapshot], edges: &[[[f64; 3]; 2]], with_step: bool) -> Vec<SurfacePanel> {
+    spread(snapshots, 6)
+        .into_iter()
+        .map(|s| SurfacePanel {
+            caption: if with_step { format!("t = {:.1} µs, step {}", s.time * 1e3, s.step) } else { format!("t = {:.1} µs", s.time * 1e3) },
+            triangles: s.triangles,
+            edges: edges.to_vec(),
+            front: s.front,
+        })
+        .collect()
+}
+
 fn spread<T: Clone>(v: &[T], n: usize) -> Vec<T> {
     if v.len() <= n {
         return v.to_vec();
@@ -388,10 +402,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
     }
     // Pictures of the crack surface.
     let edges = box_edges([0.0, 0.0, -25.0], [50.0, 50.0, 25.0]);
-    let panels: Vec<SurfacePanel> = spread(&r.snapshots, 6)
-        .into_iter()
-        .map(|s| SurfacePanel { caption: format!("t = {:.1} µs, step {}", s.time * 1e3, s.step), triangles: s.triangles, edges: edges.clone(), front: s.front })
-        .collect();
+    let panels = surface_panels(&r.snapshots, &edges, true);
     let view = View { azimuth: -60.0, elevation: 15.0, axis: [0.0, 0.0, 1.0], max_tilt: 45.0 };
     let mut spec = PlotSpec::new("Corner crack in the rod: crack surface (middle 50 mm of the rod; front in black)", "", "");
     spec.size = (1500, 900);
@@ -403,10 +414,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         spec,
         Plot::Surfaces { panels, view, columns: 3 },
     );
-    let plan: Vec<SurfacePanel> = spread(&r.snapshots, 6)
-        .into_iter()
-        .map(|s| SurfacePanel { caption: format!("t = {:.1} µs", s.time * 1e3), triangles: s.triangles, edges: box_edges([0.0, 0.0, 0.0], [50.0, 50.0, 0.0]), front: s.front })
-        .collect();
+    let plan = surface_panels(&r.snapshots, &box_edges([0.0, 0.0, 0.0], [50.0, 50.0, 0.0]), false);
     let mut spec = PlotSpec::new("Corner crack in the rod: plan view (section 50 × 50 mm; front in black)", "", "");
     spec.size = (1500, 1100);
     out.figure(
@@ -501,10 +509,7 @@ pub fn run_tube(_variant: Variant) -> anyhow::Result<CaseOutput> {
         }
         e
     };
-    let panels: Vec<SurfacePanel> = spread(&r.snapshots, 6)
-        .into_iter()
-        .map(|s| SurfacePanel { caption: format!("t = {:.1} µs, step {}", s.time * 1e3, s.step), triangles: s.triangles, edges: edges.clone(), front: s.front })
-        .collect();
+    let panels = surface_panels(&r.snapshots, &edges, true);
     let view = View { azimuth: -90.0, elevation: 10.0, axis: [0.0, 0.0, 1.0], max_tilt: 45.0 };
     let mut spec = PlotSpec::new("Tube: crack surface (tube rings at z = ±25 mm in grey; front in black)", "", "");
     spec.size = (1500, 900);
