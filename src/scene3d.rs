@@ -250,6 +250,18 @@ pub struct FractureSpec3 {
     /// K_I, K_II, K_III is read (default 1).
     #[serde(default = "default_cod_behind")]
     pub cod_behind: f64,
+    /// How J₁ is evaluated: "contour" (default; the paper's circle of `radius`, 001 Fig. 2)
+    /// or "domain" (the equivalent domain integral over the particles, with the weight
+    /// q = 1 within `radius − ramp` cells of the front line, falling to 0 at `radius`, and a
+    /// hat of half-length `along` cells along the front; [`crate::fracture::front3`]).
+    #[serde(default)]
+    pub method: FrontMethod,
+    /// Domain integral only: width of q's fall to 0, in cells (default 1).
+    #[serde(default = "default_one")]
+    pub ramp: f64,
+    /// Domain integral only: half-length of q's hat along the front, in cells (default 1).
+    #[serde(default = "default_one")]
+    pub along: f64,
     /// Let the front grow (001 §2.3.2; [`crate::fracture::growth3`]): the 2D table
     /// `{ increment, every, max_speed, speed_correction, speed_window }`. Omitted: the crack is stationary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -264,6 +276,21 @@ fn default_front_intervals() -> usize {
 }
 fn default_cod_behind() -> f64 {
     1.0
+}
+fn default_one() -> f64 {
+    1.0
+}
+
+/// `cracks[].fracture.method` of a 3D crack.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum FrontMethod {
+    /// The circular contour of 001 Fig. 2 (line term, volume term on request).
+    #[default]
+    Contour,
+    /// The equivalent domain integral over the particles (includes the inertia terms and
+    /// the variation along the front that the planar contour leaves out).
+    Domain,
 }
 
 /// The front nodes a `fracture` table asks for.
@@ -952,6 +979,14 @@ impl Scene3 {
                     return Err(invalid(f("fracture.intervals"), format!("must be 2 to 4096, got {}", fr.intervals)));
                 }
                 positive(&f("fracture.cod_behind"), fr.cod_behind)?;
+                positive(&f("fracture.along"), fr.along)?;
+                positive(&f("fracture.ramp"), fr.ramp)?;
+                if fr.method == FrontMethod::Domain && fr.ramp > fr.radius {
+                    return Err(invalid(f("fracture.ramp"), format!("{} cells is more than the domain's radius ({} cells)", fr.ramp, fr.radius)));
+                }
+                if fr.method == FrontMethod::Contour && (fr.ramp != 1.0 || fr.along != 1.0) {
+                    return Err(invalid(f("fracture.method"), "`ramp` and `along` shape the domain integral: set method = \"domain\" or leave them out".to_string()));
+                }
                 if let Some(gr) = &fr.growth {
                     gr.validate(&f("fracture.growth"), self.materials.iter().any(|m| m.toughness.is_some()))?;
                 }
@@ -1145,7 +1180,8 @@ impl Scene3 {
             if nodes.is_empty() {
                 return Err(invalid(format!("cracks[{i}].fracture.nodes"), format!("selects no front node (the crack has {} front edges)", crack.front.len())));
             }
-            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, tangents: Default::default() }));
+            let domain = (fr.method == FrontMethod::Domain).then(|| crate::fracture::front3::DomainShape { inner: (fr.radius - fr.ramp) * h, outer: fr.radius * h, along: fr.along * h });
+            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, tangents: Default::default(), domain }));
         }
         Ok(out)
     }

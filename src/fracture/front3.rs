@@ -48,6 +48,23 @@
 //!   traction-free faces), came out +2 % of ∫J dz: the discs next to a face read the face
 //!   nodes' extrapolated stresses, which are not traction free. A domain form with a
 //!   weight function along the front (as the FEA's EDI) is the way to add it.
+//! * **Domain integral** (`method = "domain"`, an alternative to the contour and its volume
+//!   term; Shih, Moran & Nakamura 1986, the 3D form the FEA's EDI uses,
+//!   [`crate::fea::crack3`]): with a weight q = φ(ρ)ψ(s) that is 1 near the node and 0 on
+//!   the domain's outer surface ([`DomainShape`]: φ = 1 within `inner` of the front line
+//!   in the (x₁, x₂) plane, falling linearly to 0 at `outer`; ψ the hat 1 − |s|/`along`
+//!   along x₃), the divergence theorem turns the J of every contour inside into
+//!   J̄ = Σ_p V_p [σ_ij ∂u_j/∂x₁ − (W + K) δ_1i] ∂q/∂x_i + Σ_p m_p q [a·∂u/∂x₁ − v·∂v/∂x₁],
+//!   the second sum the inertia terms of 004 eq. 8, and J₁ = J̄ / ∫ψ ds, ∫ψ ds over the
+//!   front inside the material (`along`, or along/2 at a node on a free face or a
+//!   symmetry plane, whose hat is cut there — exact when the face is traction free). The
+//!   particles' own σ, ∇u, W (the volume V_p their undeformed one) carry the first sum: no
+//!   nodal extrapolation, so a free face's particles are as traction free as the MPM makes
+//!   them, and ∂q/∂x₃ carries the x₃-derivative term the planar contour leaves out (below).
+//!   With the plateau, the particles next to the front (whose stresses the discrete crack
+//!   smears) enter only the inertia sum. J₂ is not given by this form (it would need the
+//!   crack faces' terms): NaN. The material's extent along x₃ is read from the particles
+//!   in the domain (their centres ± their half-size along x₃).
 //! * **K** (references §0): inside a body the near-front field is plane strain plus
 //!   antiplane shear, so G = J₁ = (1 − ν²)(K_I² + K_II²)/E + (1 + ν)K_III²/E, and the
 //!   crack-face jump (upper − lower) at a distance s behind the front gives
@@ -185,6 +202,87 @@ pub struct FrontRequest {
     /// Front tangents that replace the front's own at these nodes (the growth driver's,
     /// [`crate::fracture::growth3`]); empty: every node's own.
     pub tangents: BTreeMap<u32, Vector3>,
+    /// J₁ by the equivalent domain integral over the particles ([`DomainShape`]) instead of
+    /// the paper's circular contour; None: the contour (001 Fig. 2).
+    pub domain: Option<DomainShape>,
+}
+
+/// The weight function q = φ(ρ) ψ(s) of the equivalent domain integral at a front node
+/// (Shih, Moran & Nakamura 1986; module doc): ρ the distance from the front line (through
+/// the node along x₃) in the (x₁, x₂) plane, s = (x − x₀)·x₃ the distance along it.
+/// φ = 1 for ρ ≤ `inner`, falling linearly to 0 at `outer`; ψ = 1 − |s|/`along`, 0
+/// beyond. Lengths.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DomainShape {
+    pub inner: f64,
+    pub outer: f64,
+    pub along: f64,
+}
+
+impl DomainShape {
+    /// q and ∇q (global components) at d = x − x₀.
+    pub fn weight(&self, d: &Vector3, frame: &FrontFrame) -> (f64, Vector3) {
+        let (a, b, c) = (d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3));
+        let rho = (a * a + b * b).sqrt();
+        if rho >= self.outer || c.abs() >= self.along {
+            return (0.0, Vector3::zeros());
+        }
+        let psi = 1.0 - c.abs() / self.along;
+        let dpsi = -c.signum() / self.along;
+        let (phi, dphi) = if rho <= self.inner { (1.0, 0.0) } else { ((self.outer - rho) / (self.outer - self.inner), -1.0 / (self.outer - self.inner)) };
+        let radial = if rho > 0.0 { (frame.e1 * a + frame.e2 * b) / rho } else { Vector3::zeros() };
+        (phi * psi, radial * (dphi * psi) + frame.e3 * (phi * dpsi))
+    }
+
+    /// q and ∇q averaged over a particle's undeformed domain, the box d ± lp (uGIMP: the
+    /// particle's fields are constant over it, so the domain integral's share of a particle
+    /// is its fields times these averages). Where q is one smooth piece over the box (its
+    /// circumscribed sphere crosses none of ρ = inner, ρ = outer, s = 0, |s| = along and
+    /// does not reach the front line) the centre value; otherwise the midpoint rule on
+    /// 8×8×8 sub-boxes. Read at the centre only, a 2-per-cell lattice put the ring's
+    /// straddling particles wholly in or out of it, and the DCB's mid-width J moved by
+    /// −2 / +13 / +0.5 % for outer radii of 3 / 4 / 5 cells (case `front_j_dcb`).
+    pub fn box_average(&self, d: &Vector3, lp: &Vector3, frame: &FrontFrame) -> (f64, Vector3) {
+        let rad = lp.norm();
+        let (a, b, c) = (d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3));
+        let rho = (a * a + b * b).sqrt();
+        let near = |x: f64, y: f64| (x - y).abs() <= rad;
+        let smooth = !(near(rho, self.inner) || near(rho, self.outer) || near(c, 0.0) || near(c.abs(), self.along) || rho <= rad);
+        if smooth {
+            return self.weight(d, frame);
+        }
+        let n = FRACTION_POINTS;
+        let f = |m: usize| (2.0 * m as f64 + 1.0) / n as f64 - 1.0;
+        let (mut q, mut g) = (0.0, Vector3::zeros());
+        for i in 0..n {
+            for j in 0..n {
+                for k in 0..n {
+                    let (qs, gs) = self.weight(&(d + Vector3::new(f(i) * lp.x, f(j) * lp.y, f(k) * lp.z)), frame);
+                    q += qs;
+                    g += gs;
+                }
+            }
+        }
+        let m = (n * n * n) as f64;
+        (q / m, g / m)
+    }
+
+    /// ∫ψ ds over the part [lo, hi] of the front line (clipped to ±along): `along` for a
+    /// front running on both sides of the node, along/2 for a node on a free face or a
+    /// symmetry plane.
+    pub fn hat_integral(&self, lo: f64, hi: f64) -> f64 {
+        let l = self.along;
+        // ∫ from −l to s of ψ.
+        let g = |s: f64| {
+            let s = s.clamp(-l, l);
+            if s <= 0.0 {
+                (s + l) * (s + l) / (2.0 * l)
+            } else {
+                l - (l - s) * (l - s) / (2.0 * l)
+            }
+        };
+        (g(hi) - g(lo)).max(0.0)
+    }
 }
 
 /// J and K at one front node at one time.
@@ -485,12 +583,35 @@ impl Simulation<D3> {
         }
     }
 
+    /// The acceleration a (without loads, body forces and damping,
+    /// [`area_acceleration`]), velocity v and velocity gradient ∂v_q/∂x_m of particle i
+    /// from the nodal fields of its own pairs, as the 2D area term reads them.
+    fn particle_motion3(&self, i: usize) -> (Vector3, Vector3, Tensor3) {
+        let pairs = &self.pairs;
+        let nodes = &self.nodes;
+        let mut acc: [ExactSum; 15] = Default::default();
+        for k in pairs.of_particle(i) {
+            let fa = &nodes.fields[pairs.field[k] as usize];
+            let node = pairs.node[k] as usize;
+            let v = fa.mom[node] / fa.mass[node];
+            let acl = area_acceleration(fa, node, self.options.damping);
+            let (s, gr) = (pairs.s[k], pairs.g[k]);
+            for q in 0..3 {
+                acc[q].add(s * acl[q]);
+                acc[3 + q].add(s * v[q]);
+                for m in 0..3 {
+                    acc[6 + 3 * q + m].add(v[q] * gr[m]);
+                }
+            }
+        }
+        let v: [f64; 15] = std::array::from_fn(|k| acc[k].value());
+        (Vector3::new(v[0], v[1], v[2]), Vector3::new(v[3], v[4], v[5]), Tensor3::new(v[6], v[7], v[8], v[9], v[10], v[11], v[12], v[13], v[14]))
+    }
+
     /// The volume term (global components) over the particles in the short cylinder of
     /// radius r and length `slab` around x0 (module doc).
     fn volume_term3(&self, x0: &Vector3, frame: &FrontFrame, r: f64, slab: f64) -> Vector3 {
         let p = &self.particles;
-        let pairs = &self.pairs;
-        let nodes = &self.nodes;
         let mut sum = [ExactSum::new(), ExactSum::new(), ExactSum::new()];
         let (mut behind, mut ahead) = (false, false);
         for i in 0..p.len() {
@@ -502,25 +623,7 @@ impl Simulation<D3> {
             let c = d.dot(&frame.e3);
             behind |= c <= 0.0;
             ahead |= c >= 0.0;
-            let mut acc: [ExactSum; 15] = Default::default();
-            for k in pairs.of_particle(i) {
-                let fa = &nodes.fields[pairs.field[k] as usize];
-                let node = pairs.node[k] as usize;
-                let v = fa.mom[node] / fa.mass[node];
-                let acl = area_acceleration(fa, node, self.options.damping);
-                let (s, gr) = (pairs.s[k], pairs.g[k]);
-                for q in 0..3 {
-                    acc[q].add(s * acl[q]);
-                    acc[3 + q].add(s * v[q]);
-                    for m in 0..3 {
-                        acc[6 + 3 * q + m].add(v[q] * gr[m]);
-                    }
-                }
-            }
-            let v: [f64; 15] = std::array::from_fn(|k| acc[k].value());
-            let acl = Vector3::new(v[0], v[1], v[2]);
-            let vel = Vector3::new(v[3], v[4], v[5]);
-            let grad_v = Tensor3::new(v[6], v[7], v[8], v[9], v[10], v[11], v[12], v[13], v[14]);
+            let (acl, vel, grad_v) = self.particle_motion3(i);
             let f = (p.grad_u[i].transpose() * acl - grad_v.transpose() * vel) * (w * p.mass[i] / slab);
             for q in 0..3 {
                 sum[q].add(f[q]);
@@ -531,6 +634,40 @@ impl Simulation<D3> {
         // plane). The factor 2 is exact, so interior nodes keep their bits.
         let per_length = if behind && ahead { 1.0 } else { 2.0 };
         Vector3::new(sum[0].value(), sum[1].value(), sum[2].value()) * per_length
+    }
+
+    /// J₁ at a front node by the equivalent domain integral over the particles (module
+    /// doc, "Domain integral"): (J₁, its static part without the inertia terms).
+    fn domain_j3(&self, x0: &Vector3, frame: &FrontFrame, shape: &DomainShape) -> (f64, f64) {
+        let p = &self.particles;
+        let (mut stat, mut dynm) = (ExactSum::new(), ExactSum::new());
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let e1 = frame.e1;
+        for i in 0..p.len() {
+            let d = p.x[i] - x0;
+            let (q, gq) = shape.box_average(&d, &p.lp[i], frame);
+            if q == 0.0 && gq == Vector3::zeros() {
+                continue;
+            }
+            // The material's extent along the front line, from the particles' domains.
+            let c = d.dot(&frame.e3);
+            let ext = (0..3).map(|a| p.lp[i][a] * frame.e3[a].abs()).sum::<f64>();
+            lo = lo.min(c - ext);
+            hi = hi.max(c + ext);
+            let s = &p.stress[i];
+            let du1 = p.grad_u[i] * e1;
+            let rho = p.mass[i] / p.vol0[i];
+            let (acl, vel, grad_v) = self.particle_motion3(i);
+            let energy = 0.5 * s.ddot(&p.strain[i]) + 0.5 * rho * vel.norm_squared();
+            stat.add(p.vol0[i] * (s.dot_vec(&gq).dot(&du1) - energy * e1.dot(&gq)));
+            dynm.add(p.mass[i] * q * (du1.dot(&acl) - (grad_v * e1).dot(&vel)));
+        }
+        let len = shape.hat_integral(lo, hi);
+        if !(len > 0.0) {
+            return (f64::NAN, f64::NAN);
+        }
+        let st = stat.value() / len;
+        (st + dynm.value() / len, st)
     }
 
     /// The material at x ([`Simulation::material_index_near3`]).
@@ -553,9 +690,16 @@ impl Simulation<D3> {
                 out.push(FrontResult { time: self.time, crack: c, node: v, x: x0, frame: FrontFrame { e1: z, e2: z, e3: z }, j1: nan, j2: nan, j1_line: nan, j2_line: nan, delta: [nan; 3], k: [nan; 3] });
                 continue;
             };
-            let (j1_line, j2_line) = circle_line_term(&x0, &frame, req.radius, req.intervals, |x, upper| self.sample3(&mut cache, x, upper));
-            let (mut j1, mut j2) = (j1_line, j2_line);
-            if req.volume_term {
+            let (mut j1, mut j2, j1_line, j2_line);
+            if let Some(shape) = &req.domain {
+                // The domain form gives J₁ only: J₂ would need the crack faces' terms.
+                (j1, j1_line) = self.domain_j3(&x0, &frame, shape);
+                (j2, j2_line) = (nan, nan);
+            } else {
+                (j1_line, j2_line) = circle_line_term(&x0, &frame, req.radius, req.intervals, |x, upper| self.sample3(&mut cache, x, upper));
+                (j1, j2) = (j1_line, j2_line);
+            }
+            if req.volume_term && req.domain.is_none() {
                 let jv = self.volume_term3(&x0, &frame, req.radius, slab);
                 j1 += jv.dot(&frame.e1);
                 j2 += jv.dot(&frame.e2);
@@ -636,6 +780,33 @@ impl Simulation<D2> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The domain integral's weight: ∫ψ over a front running both ways is `along`, over one
+    /// ending at the node along/2; ∇q matches central differences of q inside the ramp and
+    /// the hat (a tilted frame), and q = 1 on the plateau at the node.
+    #[test]
+    fn domain_weight_and_hat() {
+        let d = DomainShape { inner: 2.0, outer: 3.0, along: 1.5 };
+        assert_eq!(d.hat_integral(f64::NEG_INFINITY, f64::INFINITY), 1.5);
+        assert_eq!(d.hat_integral(0.0, 10.0), 0.75);
+        assert_eq!(d.hat_integral(-10.0, 0.0), 0.75);
+        assert!((d.hat_integral(-0.5, 10.0) - (0.75 + 0.5 - 0.25 / 3.0)).abs() < 1e-15);
+        let t = 0.41f64;
+        let frame = FrontFrame::from_tangent_normal(&Vector3::new(0.2, t.sin(), t.cos()), &Vector3::new(0.1, 1.0, -0.3)).unwrap();
+        assert_eq!(d.weight(&Vector3::zeros(), &frame), (1.0, Vector3::zeros()));
+        for x in [Vector3::new(1.9, 1.3, 0.4), Vector3::new(-0.7, 2.2, -0.9), Vector3::new(0.3, 0.2, 0.8)] {
+            let (_, g) = d.weight(&x, &frame);
+            let eps = 1e-6;
+            for a in 0..3 {
+                let mut xp = x;
+                let mut xm = x;
+                xp[a] += eps;
+                xm[a] -= eps;
+                let fd = (d.weight(&xp, &frame).0 - d.weight(&xm, &frame).0) / (2.0 * eps);
+                assert!((fd - g[a]).abs() < 1e-7, "∂q/∂x{a} at {x:?}: {fd} vs {}", g[a]);
+            }
+        }
+    }
 
     /// The particles of a 2×2×2-per-cell lattice (h = 1), weighted by their fractions, fill
     /// the volume term's cylinder to within 0.5 % of πr²h at 1.5–4 cells, with the front node

@@ -27,7 +27,7 @@
 //!
 //! Tolerances and why each is fair: `verification/cases.toml`.
 
-use crate::fracture::front3::{FrontRequest, FrontResult};
+use crate::fracture::front3::{DomainShape, FrontRequest, FrontResult};
 use crate::fracture::jintegral::TipEnd;
 use crate::report::plot::{PlotSpec, Series};
 use crate::verify::cases::fea3d::penny_cylinder_factor;
@@ -89,6 +89,10 @@ pub struct SlabRun {
     /// The same with the volume term, and the 2D rectangular contour's J₁ with its area term.
     pub front_volume: Vec<FrontResult>,
     pub j2d_rect_area: f64,
+    /// The 3D front nodes by the equivalent domain integral (q = 1 within 2 cells, 0 from 3
+    /// = the crack length at h = 2 mm, so q vanishes before the plate's cracked edge; hat ±1
+    /// cell).
+    pub front_domain: Vec<FrontResult>,
     pub seconds_2d: f64,
     pub seconds_3d: f64,
     pub particles_3d: usize,
@@ -120,7 +124,9 @@ pub fn slab(h: f64) -> anyhow::Result<SlabRun> {
     let front = b.front_fracture(0, &req);
     let seconds_front = t.elapsed().as_secs_f64();
     let front_volume = b.front_fracture(0, &FrontRequest { volume_term: true, ..req.clone() });
+    let front_domain = b.front_fracture(0, &FrontRequest { domain: Some(DomainShape { inner: 2.0 * h, outer: 3.0 * h, along: h }), ..req.clone() });
     Ok(SlabRun {
+        front_domain,
         front_volume,
         j2d_rect_area: tip_area.j1,
         h,
@@ -154,6 +160,13 @@ pub fn run_slab(variant: Variant) -> anyhow::Result<CaseOutput> {
         out.measure("k_vs_2d", &label, dev, 0.0);
         out.measure("j_vs_2d", &label, jdev, 0.0);
         out.measure("mixed_modes", &label, modes, 0.0);
+        let ddev = r.front_domain.iter().map(|f| (f.j1 / r.j2d_rect_area - 1.0).abs()).fold(0.0, f64::max);
+        out.measure("domain_vs_2d", &label, ddev, 0.0);
+        out.note(format!(
+            "h = {h} mm, equivalent domain integral (q = 1 within 2 cells, 0 from 3, hat ±1 cell): J₁ per front node (z: J₁, vs the 2D \
+             rectangle with its area term): {}.",
+            r.front_domain.iter().map(|f| format!("{}: {:.6e} ({:+.3} %)", f.x.z, f.j1, 100.0 * (f.j1 / r.j2d_rect_area - 1.0))).collect::<Vec<_>>().join(", ")
+        ));
         let jv = r.front_volume.iter().map(|f| f.j1 / f.j1_line - 1.0).fold(0.0, |a: f64, x| if x.abs() > a.abs() { x } else { a });
         out.note(format!(
             "h = {h} mm, volume term (static, damped state; path independence against the radius: case front_j_path): the 3D front J₁ with \

@@ -27,7 +27,7 @@
 //!
 //! Tolerances and why each is fair: `verification/cases.toml`, case `front_j_dcb`.
 
-use crate::fracture::front3::{FrontRequest, FrontResult};
+use crate::fracture::front3::{DomainShape, FrontRequest, FrontResult};
 use crate::report::plot::{PlotSpec, Series};
 use crate::verify::cases::fea3d::{dcb3_solve, Dcb3Solve, DCB3_B, DCB3_P};
 use crate::verify::cases::fracture::{ARM, CHI};
@@ -39,6 +39,30 @@ use std::time::Instant;
 /// Cell size of `fea_dcb_3d.toml` (mm) and the x of its crack particles' end.
 pub const H: f64 = 2.0;
 pub const CRACK_END: f64 = 49.0;
+/// Outer radii (cells) of the domain integral's q; the checks read DOMAIN_RADII[1], the
+/// FEA's ≈ 8 mm domain (q = 1 within 3 cells, 0 from 4).
+pub const DOMAIN_RADII: [f64; 3] = [3.0, 4.0, 5.0];
+/// Half-length of the domain integral's hat along the front (mm): one cell. (A hat of
+/// ±1 mm, one particle layer each side, was tried: ∂q/∂x₃ then differences single particle
+/// layers and the profile alternated ±50–170 % node to node.) The 1 mm FEA's J(z) is
+/// averaged with the same hat for the comparison ([`hat_average`]).
+pub const DOMAIN_ALONG: f64 = 4.0;
+
+/// The hat average ∫ψ(s)J(z + s) ds / ∫ψ ds of a profile given at every 1 mm (the 1 mm
+/// FEA's front nodes), ψ = 1 − |s|/DOMAIN_ALONG cut at the faces, by the trapezoidal rule
+/// on the nodes (exact for the hat's integral): the MPM domain integral's average of the
+/// same G(z).
+pub fn hat_average(pts: &[(f64, f64)], z: f64) -> Option<f64> {
+    let (mut num, mut den) = (0.0, 0.0);
+    let (lo, hi) = (pts.first()?.0, pts.last()?.0);
+    for &(zi, j) in pts {
+        let psi = (1.0 - (zi - z).abs() / DOMAIN_ALONG).max(0.0);
+        let w = if zi == lo || zi == hi { 0.5 } else { 1.0 };
+        num += w * psi * j;
+        den += w * psi;
+    }
+    (den > 0.0).then(|| num / den)
+}
 /// How long before the end the settling check reads the mid-width J (ms).
 pub const SETTLE_WINDOW: f64 = 0.25;
 
@@ -50,6 +74,18 @@ pub fn scene(da: i32) -> SceneFile {
     }
     let end = CRACK_END + da as f64 * H;
     f.set("cracks.0.surface.polygon.points", format!("[[-2.0, 12.0, -1.0], [-2.0, 12.0, 13.0], [{end:?}, 12.0, 13.0], [{end:?}, 12.0, -1.0]]"))
+}
+
+/// The scene file on 1 mm cells for the FEA with its front exactly at the MPM's crack end
+/// x = 49 (a node plane at 1 mm) and the loads on the two particle layers x ≤ 1 mm, whose
+/// load line x = 0.5 is the 2 mm MPM's (one layer x ≤ 1).
+pub fn scene_fine() -> SceneFile {
+    SceneFile::new("fea_dcb_3d.toml")
+        .set("grid.cell", "[1.0, 1.0, 1.0]")
+        .set("loads.0.particles", "{ box = { min = [0.0, 12.0, 0.0], max = [1.0, 24.0, 12.0] } }")
+        .set("loads.1.particles", "{ box = { min = [0.0, 0.0, 0.0], max = [1.0, 12.0, 12.0] } }")
+        .set("cracks.0.surface.polygon.points", "[[-2.0, 12.0, -2.0], [-2.0, 12.0, 14.0], [48.5, 12.0, 14.0], [48.5, 12.0, -2.0]]")
+        .set("cracks.0.edge", "0.5")
 }
 
 /// Corrected beam theory for crack length a (from the load line) and modulus e.
@@ -68,6 +104,9 @@ pub struct DcbRun {
     /// The MPM front at the end (the scene's radius) and at 1.5× that radius.
     pub front: Vec<FrontResult>,
     pub front_wide: Vec<FrontResult>,
+    /// The MPM front by the equivalent domain integral, q's outer radius DOMAIN_RADII[k]
+    /// cells (ramp and hat one cell).
+    pub front_domain: Vec<Vec<FrontResult>>,
     /// Mid-width J₁ SETTLE_WINDOW before the end.
     pub j_mid_before: f64,
     pub mpm_strain: f64,
@@ -78,6 +117,9 @@ pub struct DcbRun {
     /// FEA with its front at x = 50 (the file) and x = 48.
     pub fea50: Dcb3Solve,
     pub fea48: Dcb3Solve,
+    /// FEA on 1 mm cells with its front at x = 49 ([`scene_fine`]): the domain integral's
+    /// reference.
+    pub fea_fine: Dcb3Solve,
     pub fea_seconds: f64,
     pub e: f64,
     pub nu: f64,
@@ -116,15 +158,19 @@ pub fn dcb() -> anyhow::Result<DcbRun> {
     let mpm_seconds = t.elapsed().as_secs_f64();
     let front = sim.front_fracture(0, &req);
     let front_wide = sim.front_fracture(0, &FrontRequest { radius: 1.5 * req.radius, ..req.clone() });
+    let front_domain = DOMAIN_RADII.iter().map(|&rc| sim.front_fracture(0, &FrontRequest { domain: Some(DomainShape { inner: (rc - 1.0) * H, outer: rc * H, along: DOMAIN_ALONG }), ..req.clone() })).collect();
     let en = sim.energies();
     let t = Instant::now();
     let fea50 = dcb3_solve(&scene(0), H)?;
     let fea48 = dcb3_solve(&scene(-1), H)?;
     anyhow::ensure!(fea50.front_x == 50.0 && fea48.front_x == 48.0, "FEA fronts at x = {} and {}", fea50.front_x, fea48.front_x);
+    let fea_fine = dcb3_solve(&scene_fine(), 1.0)?;
+    anyhow::ensure!(fea_fine.front_x == CRACK_END, "1 mm FEA front at x = {}", fea_fine.front_x);
     let m = &s.materials[0];
     Ok(DcbRun {
         front,
         front_wide,
+        front_domain,
         j_mid_before,
         mpm_strain: en.strain,
         mpm_kinetic: en.kinetic,
@@ -133,6 +179,7 @@ pub fn dcb() -> anyhow::Result<DcbRun> {
         mpm_seconds,
         fea50,
         fea48,
+        fea_fine,
         fea_seconds: t.elapsed().as_secs_f64(),
         e: m.e,
         nu: m.nu,
@@ -165,6 +212,42 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let (mpm_w, fea_w) = (width_integral(&mpm_pts), width_integral(&fea_pts));
     out.measure("width_integral_fea", "trapezoid over the front nodes, FEA at x = 49", mpm_w, fea_w);
     out.measure("settled", &format!("mid-width J at the end vs {SETTLE_WINDOW} ms before"), mid.j1, r.j_mid_before);
+    // The equivalent domain integral (crate::fracture::front3, "Domain integral") against
+    // the 1 mm FEA with its front at x = 49, every front node including the faces.
+    let dom = &r.front_domain[1];
+    let dom_at = |z: f64| near(dom, z).map(|f| f.j1);
+    let fine_pts: Vec<(f64, f64)> = r.fea_fine.front.iter().map(|f| (f.0, f.2)).collect();
+    let fine_at = |z: f64| hat_average(&fine_pts, z);
+    let dom_mid = dom_at(0.5 * DCB3_B).context("no domain J at mid-width")?;
+    let fine_mid = fine_at(0.5 * DCB3_B).context("no 1 mm FEA J at mid-width")?;
+    out.measure("domain_mid_width_fea", &format!("domain integral, q to {} cells, vs the 1 mm FEA at x = 49", DOMAIN_RADII[1]), dom_mid, fine_mid);
+    let dom_rows: Vec<(f64, f64, f64)> = r.fea_fine.front.iter().filter_map(|&(z, _, _)| Some((z, dom_at(z)?, fine_at(z)?))).collect();
+    let dom_worst = dom_rows.iter().map(|x| (x.1 / x.2 - 1.0).abs()).fold(0.0, f64::max);
+    out.measure("domain_profile_fea", "every front node z = 0, 1, …, 12, faces included, vs the 1 mm FEA", dom_worst, 0.0);
+    let dom_pts: Vec<(f64, f64)> = dom.iter().map(|f| (f.x.z, f.j1)).collect();
+    let fine_avg: Vec<(f64, f64)> = dom_rows.iter().map(|x| (x.0, x.2)).collect();
+    let (dom_w, fine_w) = (width_integral(&dom_pts), width_integral(&fine_avg));
+    out.measure("domain_width_integral_fea", "trapezoid over the 13 front nodes, vs the 1 mm FEA", dom_w, fine_w);
+    let mids: Vec<f64> = r.front_domain.iter().map(|f| near(f, 0.5 * DCB3_B).map_or(f64::NAN, |f| f.j1)).collect();
+    let spread = (mids.iter().copied().fold(f64::NEG_INFINITY, f64::max) - mids.iter().copied().fold(f64::INFINITY, f64::min)) / dom_mid;
+    out.measure("domain_path", &format!("mid-width J over q radii {DOMAIN_RADII:?} cells"), spread, 0.0);
+    out.note(format!(
+        "Equivalent domain integral over the particles (q = 1 within r − 1 cells of the front line, 0 from r; hat ±{DOMAIN_ALONG} mm \
+         along the front): mid-width J₁ at r = {DOMAIN_RADII:?} cells: {}; width integral {dom_w:.5e} N. FEA on 1 mm cells, front at \
+         x = 49 ({} equations), its J(z) averaged with the same hat: mid-width {fine_mid:.5e} ({:+.2} % from the 2 mm FEA interpolated to \
+         x = 49), width integral {fine_w:.5e} N ({:+.2} % from the 2 mm one; the 1 mm FEA's own ∫J dz {:.5e} N); the domain J against it: mid-width {:+.2} %, width integral {:+.2} %, against the 2 mm FEA \
+         {:+.2} % / {:+.2} %. Profile (z: domain J₁ / 1 mm FEA − 1): {}.",
+        mids.iter().map(|j| format!("{j:.5e}")).collect::<Vec<_>>().join(", "),
+        r.fea_fine.equations,
+        100.0 * (fine_mid / fea_mid - 1.0),
+        100.0 * (fine_w / fea_w - 1.0),
+        width_integral(&fine_pts),
+        100.0 * (dom_mid / fine_mid - 1.0),
+        100.0 * (dom_w / fine_w - 1.0),
+        100.0 * (dom_mid / fea_mid - 1.0),
+        100.0 * (dom_w / fea_w - 1.0),
+        dom_rows.iter().map(|x| format!("{}: {:+.2} %", x.0, 100.0 * (x.1 / x.2 - 1.0))).collect::<Vec<_>>().join(", "),
+    ));
     let asym = r.front.iter().map(|f| {
         let twin = r.mpm_at(DCB3_B - f.x.z).map_or(f64::NAN, |g| g.j1);
         (f.j1 - twin).abs() / mid.j1
@@ -230,6 +313,8 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
         PlotSpec::new("3D DCB: J across the width, MPM and FEA", "z (mm)", "J / G_beam(E′)"),
         Plot::Lines(vec![
             Series::line(&format!("MPM, circle of {} cells", r.radius_cells), r.front.iter().map(|f| (f.x.z, f.j1 / g_plate)).collect()).with_markers(),
+            Series::line(&format!("MPM, domain integral to {} cells", DOMAIN_RADII[1]), dom_pts.iter().map(|p| (p.0, p.1 / g_plate)).collect()).with_markers(),
+            Series::line("FEA (hex8, EDI), 1 mm cells, front at x = 49", r.fea_fine.front.iter().map(|f| (f.0, f.2 / g_plate)).collect()).with_markers(),
             Series::line("FEA (hex8, EDI), at x = 49", fea_pts.iter().map(|p| (p.0, p.1 / g_plate)).collect()).with_markers(),
             Series::reference("corrected beam theory, E′ (plane strain)", vec![(0.0, 1.0), (DCB3_B, 1.0)]),
             Series::reference("corrected beam theory, E", vec![(0.0, g_e / g_plate), (DCB3_B, g_e / g_plate)]),
@@ -242,6 +327,12 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
             let mut s = String::from("source,z,j\n");
             for f in &r.front {
                 s.push_str(&format!("mpm,{:e},{:e}\n", f.x.z, f.j1));
+            }
+            for f in dom {
+                s.push_str(&format!("mpm_domain,{:e},{:e}\n", f.x.z, f.j1));
+            }
+            for f in &r.fea_fine.front {
+                s.push_str(&format!("fea_1mm_x49,{:e},{:e}\n", f.0, f.2));
             }
             for f in &r.fea48.front {
                 s.push_str(&format!("fea_x48,{:e},{:e}\n", f.0, f.2));
