@@ -52,7 +52,7 @@
 //!   term; Shih, Moran & Nakamura 1986, the 3D form the FEA's EDI uses,
 //!   [`crate::fea::crack3`]): with a weight q = φ(ρ)ψ(s) that is 1 near the node and 0 on
 //!   the domain's outer surface ([`DomainShape`]: φ = 1 within `inner` of the front line
-//!   in the (x₁, x₂) plane, falling linearly to 0 at `outer`; ψ the hat 1 − |s|/`along`
+//!   in the (x₁, x₂) plane, falling linearly to 0 at `outer`; ψ = cos²(πs/2·`along`)
 //!   along x₃), the divergence theorem turns the J of every contour inside into
 //!   J̄ = Σ_p V_p [σ_ij ∂u_j/∂x₁ − (W + K) δ_1i] ∂q/∂x_i + Σ_p m_p q [a·∂u/∂x₁ − v·∂v/∂x₁],
 //!   the second sum the inertia terms of 004 eq. 8, and J₁ = J̄ / ∫ψ ds, ∫ψ ds over the
@@ -210,8 +210,14 @@ pub struct FrontRequest {
 /// The weight function q = φ(ρ) ψ(s) of the equivalent domain integral at a front node
 /// (Shih, Moran & Nakamura 1986; module doc): ρ the distance from the front line (through
 /// the node along x₃) in the (x₁, x₂) plane, s = (x − x₀)·x₃ the distance along it.
-/// φ = 1 for ρ ≤ `inner`, falling linearly to 0 at `outer`; ψ = 1 − |s|/`along`, 0
-/// beyond. Lengths.
+/// φ = 1 for ρ ≤ `inner`, falling linearly to 0 at `outer`; ψ = cos²(πs/2L), L = `along`,
+/// 0 beyond (∫ψ ds = L, as the hat 1 − |s|/L of the FEA's EDI). Lengths. Why not the hat:
+/// its slope jumps from +1/L to −1/L at the node, and the particles' σ₃ⱼ ∂u_j/∂x₁ carries a
+/// sawtooth within each cell (the two particle layers of a cell differ), which a kink at
+/// mid-cell picks up and a kink on a cell boundary does not: on the 3D DCB (case
+/// `front_j_dcb`, hat ±2 cells) the mid-cell front nodes came out 2–7 % above their
+/// neighbours on cell boundaries. A smooth ψ sums the sawtooth against a slope that
+/// changes little from layer to layer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DomainShape {
     pub inner: f64,
@@ -227,8 +233,11 @@ impl DomainShape {
         if rho >= self.outer || c.abs() >= self.along {
             return (0.0, Vector3::zeros());
         }
-        let psi = 1.0 - c.abs() / self.along;
-        let dpsi = -c.signum() / self.along;
+        // ψ = cos²(πs/2L): smooth at the node (see the type's doc for why not a hat).
+        let k = PI / (2.0 * self.along);
+        let (sn, cs) = (k * c).sin_cos();
+        let psi = cs * cs;
+        let dpsi = -2.0 * k * sn * cs;
         let (phi, dphi) = if rho <= self.inner { (1.0, 0.0) } else { ((self.outer - rho) / (self.outer - self.inner), -1.0 / (self.outer - self.inner)) };
         let radial = if rho > 0.0 { (frame.e1 * a + frame.e2 * b) / rho } else { Vector3::zeros() };
         (phi * psi, radial * (dphi * psi) + frame.e3 * (phi * dpsi))
@@ -237,7 +246,7 @@ impl DomainShape {
     /// q and ∇q averaged over a particle's undeformed domain, the box d ± lp (uGIMP: the
     /// particle's fields are constant over it, so the domain integral's share of a particle
     /// is its fields times these averages). Where q is one smooth piece over the box (its
-    /// circumscribed sphere crosses none of ρ = inner, ρ = outer, s = 0, |s| = along and
+    /// circumscribed sphere crosses none of ρ = inner, ρ = outer, |s| = along and
     /// does not reach the front line) the centre value; otherwise the midpoint rule on
     /// 8×8×8 sub-boxes. Read at the centre only, a 2-per-cell lattice put the ring's
     /// straddling particles wholly in or out of it, and the DCB's mid-width J moved by
@@ -247,7 +256,7 @@ impl DomainShape {
         let (a, b, c) = (d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3));
         let rho = (a * a + b * b).sqrt();
         let near = |x: f64, y: f64| (x - y).abs() <= rad;
-        let smooth = !(near(rho, self.inner) || near(rho, self.outer) || near(c, 0.0) || near(c.abs(), self.along) || rho <= rad);
+        let smooth = !(near(rho, self.inner) || near(rho, self.outer) || near(c.abs(), self.along) || rho <= rad);
         if smooth {
             return self.weight(d, frame);
         }
@@ -272,14 +281,10 @@ impl DomainShape {
     /// symmetry plane.
     pub fn hat_integral(&self, lo: f64, hi: f64) -> f64 {
         let l = self.along;
-        // ∫ from −l to s of ψ.
+        // ∫ from −l to s of cos²(πs/2l) = (s + l)/2 + (l/2π) sin(πs/l).
         let g = |s: f64| {
             let s = s.clamp(-l, l);
-            if s <= 0.0 {
-                (s + l) * (s + l) / (2.0 * l)
-            } else {
-                l - (l - s) * (l - s) / (2.0 * l)
-            }
+            0.5 * (s + l) + l / (2.0 * PI) * (PI * s / l).sin()
         };
         (g(hi) - g(lo)).max(0.0)
     }
@@ -790,7 +795,9 @@ mod tests {
         assert_eq!(d.hat_integral(f64::NEG_INFINITY, f64::INFINITY), 1.5);
         assert_eq!(d.hat_integral(0.0, 10.0), 0.75);
         assert_eq!(d.hat_integral(-10.0, 0.0), 0.75);
-        assert!((d.hat_integral(-0.5, 10.0) - (0.75 + 0.5 - 0.25 / 3.0)).abs() < 1e-15);
+        // ∫ from −0.5 to 1.5 of cos²(πs/3) = 1 + (0.75/π)(sin(π/2·… )): by the closed form.
+        let g = |s: f64| 0.5 * (s + 1.5) + 1.5 / (2.0 * PI) * (PI * s / 1.5).sin();
+        assert!((d.hat_integral(-0.5, 10.0) - (g(1.5) - g(-0.5))).abs() < 1e-15);
         let t = 0.41f64;
         let frame = FrontFrame::from_tangent_normal(&Vector3::new(0.2, t.sin(), t.cos()), &Vector3::new(0.1, 1.0, -0.3)).unwrap();
         assert_eq!(d.weight(&Vector3::zeros(), &frame), (1.0, Vector3::zeros()));

@@ -42,21 +42,23 @@ pub const CRACK_END: f64 = 49.0;
 /// Outer radii (cells) of the domain integral's q; the checks read DOMAIN_RADII[1], the
 /// FEA's ≈ 8 mm domain (q = 1 within 3 cells, 0 from 4).
 pub const DOMAIN_RADII: [f64; 3] = [3.0, 4.0, 5.0];
-/// Half-length of the domain integral's hat along the front (mm): one cell. (A hat of
-/// ±1 mm, one particle layer each side, was tried: ∂q/∂x₃ then differences single particle
-/// layers and the profile alternated ±50–170 % node to node.) The 1 mm FEA's J(z) is
-/// averaged with the same hat for the comparison ([`hat_average`]).
+/// Half-length L of the domain integral's weight along the front, ψ = cos²(πs/2L) (mm):
+/// two cells. (Tried and dropped, measured: the hat 1 − |s|/L with L = 1 mm, one particle
+/// layer each side — the profile alternated ±50–170 % node to node; with L = 2 mm the
+/// mid-cell nodes z = 1, 11 were +26 %; with L = 4 mm +10 % — the hat's kink at a mid-cell
+/// node picks up the particles' sawtooth within a cell, crate::fracture::front3.) The 1 mm
+/// FEA's J(z) is averaged with the same ψ for the comparison ([`hat_average`]).
 pub const DOMAIN_ALONG: f64 = 4.0;
 
-/// The hat average ∫ψ(s)J(z + s) ds / ∫ψ ds of a profile given at every 1 mm (the 1 mm
-/// FEA's front nodes), ψ = 1 − |s|/DOMAIN_ALONG cut at the faces, by the trapezoidal rule
-/// on the nodes (exact for the hat's integral): the MPM domain integral's average of the
-/// same G(z).
+/// The weighted average ∫ψ(s)J(z + s) ds / ∫ψ ds of a profile given at every 1 mm (the
+/// 1 mm FEA's front nodes), ψ = cos²(πs/2L), L = DOMAIN_ALONG, cut at the faces, by the
+/// trapezoidal rule on the nodes: the MPM domain integral's average of the same G(z).
 pub fn hat_average(pts: &[(f64, f64)], z: f64) -> Option<f64> {
     let (mut num, mut den) = (0.0, 0.0);
     let (lo, hi) = (pts.first()?.0, pts.last()?.0);
     for &(zi, j) in pts {
-        let psi = (1.0 - (zi - z).abs() / DOMAIN_ALONG).max(0.0);
+        let d = zi - z;
+        let psi = if d.abs() < DOMAIN_ALONG { (std::f64::consts::PI * d / (2.0 * DOMAIN_ALONG)).cos().powi(2) } else { 0.0 };
         let w = if zi == lo || zi == hi { 0.5 } else { 1.0 };
         num += w * psi * j;
         den += w * psi;
@@ -232,9 +234,9 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let spread = (mids.iter().copied().fold(f64::NEG_INFINITY, f64::max) - mids.iter().copied().fold(f64::INFINITY, f64::min)) / dom_mid;
     out.measure("domain_path", &format!("mid-width J over q radii {DOMAIN_RADII:?} cells"), spread, 0.0);
     out.note(format!(
-        "Equivalent domain integral over the particles (q = 1 within r − 1 cells of the front line, 0 from r; hat ±{DOMAIN_ALONG} mm \
+        "Equivalent domain integral over the particles (q = 1 within r − 1 cells of the front line, 0 from r; ψ = cos²(πs/2L), L = {DOMAIN_ALONG} mm \
          along the front): mid-width J₁ at r = {DOMAIN_RADII:?} cells: {}; width integral {dom_w:.5e} N. FEA on 1 mm cells, front at \
-         x = 49 ({} equations), its J(z) averaged with the same hat: mid-width {fine_mid:.5e} ({:+.2} % from the 2 mm FEA interpolated to \
+         x = 49 ({} equations), its J(z) averaged with the same ψ: mid-width {fine_mid:.5e} ({:+.2} % from the 2 mm FEA interpolated to \
          x = 49), width integral {fine_w:.5e} N ({:+.2} % from the 2 mm one; the 1 mm FEA's own ∫J dz {:.5e} N); the domain J against it: mid-width {:+.2} %, width integral {:+.2} %, against the 2 mm FEA \
          {:+.2} % / {:+.2} %. Profile (z: domain J₁ / 1 mm FEA − 1): {}.",
         mids.iter().map(|j| format!("{j:.5e}")).collect::<Vec<_>>().join(", "),
