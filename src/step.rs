@@ -8,8 +8,9 @@
 //!
 //! Speed (issue 6), without changing a bit:
 //! * the sums are computed with [`FastSum`], which certifies correct rounding, and redone
-//!   with [`ExactSum`] in the rare case it cannot — only the lanes it cannot certify
-//!   (see `fast_or_exact`, and `Rerun` in `exact.rs`);
+//!   in the rare case it cannot with a three-level compensated sum that certifies the
+//!   cancelling sums of mirror planes, and [`ExactSum`] only for the lanes neither can
+//!   certify (see `fast_or_exact`, and `Rerun` in `exact.rs`);
 //! * per-node and per-particle work runs in parallel with rayon: each node's or
 //!   particle's sums are independent, results are collected in index order into buffers
 //!   kept across steps ([`Scratch`]), and stored serially;
@@ -57,6 +58,19 @@ macro_rules! simd {
             $base
         }
     }};
+}
+
+/// `gather!(avx, this.f::<CONST_ARGS>(args))`: the certified sums of one gather, the same
+/// bits whichever way they come: the fast sums ([`Fast`]), else the gather again with
+/// [`Exact`] accumulators (see [`fast_or_exact`]); each in its AVX2 copy ([`avx2`]) when
+/// `avx` is set.
+macro_rules! gather {
+    ($avx:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
+        fast_or_exact(
+            || simd!($avx, avx2::$f::<S, Fast, $($g),*>($this, $($arg),*), $this.$f::<Fast, $($g),*>($($arg),*)),
+            || simd!($avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
+        )
+    };
 }
 
 impl<S: Dimension> Simulation<S> {
@@ -191,8 +205,8 @@ impl<S: Dimension> Simulation<S> {
             .enumerate()
             .with_min_len(NODE_CHUNK)
             .map(|(a, &node)| match (with_cracks, this.is_split(node)) {
-                (false, _) | (true, false) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, false, false>(this, a), this.node_mass::<Fast, false, false>(a)), || this.node_mass::<Exact, false, false>(a)),
-                (true, true) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, true, true>(this, a), this.node_mass::<Fast, true, true>(a)), || this.node_mass::<Exact, true, true>(a)),
+                (false, _) | (true, false) => gather!(avx, this.node_mass::<false, false>(a)),
+                (true, true) => gather!(avx, this.node_mass::<true, true>(a)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -370,8 +384,8 @@ impl<S: Dimension> Simulation<S> {
         let this = &*self;
         let avx = crate::simd::enabled();
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<S, false>(this, i), this.velocity_gradient::<Fast, false>(i)), || this.velocity_gradient::<Exact, false>(i)),
-            true => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<S, true>(this, i), this.velocity_gradient::<Fast, true>(i)), || this.velocity_gradient::<Exact, true>(i)),
+            false => gather!(avx, this.velocity_gradient::<false>(i)),
+            true => gather!(avx, this.velocity_gradient::<true>(i)),
         };
         // Velocity gradients first (reading the grid), then the particle updates.
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(grad_v).collect_into_vec(&mut grads);
@@ -406,8 +420,8 @@ impl<S: Dimension> Simulation<S> {
             .enumerate()
             .with_min_len(NODE_CHUNK)
             .map(|(a, &node)| match this.is_split(node) {
-                false => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, false>(this, a, has_ext, has_body), this.node_forces::<Fast, false>(a, has_ext, has_body)), || this.node_forces::<Exact, false>(a, has_ext, has_body)),
-                true => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, true>(this, a, has_ext, has_body), this.node_forces::<Fast, true>(a, has_ext, has_body)), || this.node_forces::<Exact, true>(a, has_ext, has_body)),
+                false => gather!(avx, this.node_forces::<false>(a, has_ext, has_body)),
+                true => gather!(avx, this.node_forces::<true>(a, has_ext, has_body)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -502,8 +516,8 @@ impl<S: Dimension> Simulation<S> {
         let this = &*self;
         let avx = crate::simd::enabled();
         let increments = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => fast_or_exact(|| simd!(avx, avx2::particle_increments::<S, false>(this, i), this.particle_increments::<Fast, false>(i)), || this.particle_increments::<Exact, false>(i)),
-            true => fast_or_exact(|| simd!(avx, avx2::particle_increments::<S, true>(this, i), this.particle_increments::<Fast, true>(i)), || this.particle_increments::<Exact, true>(i)),
+            false => gather!(avx, this.particle_increments::<false>(i)),
+            true => gather!(avx, this.particle_increments::<true>(i)),
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
@@ -559,8 +573,8 @@ impl<S: Dimension> Simulation<S> {
             .enumerate()
             .with_min_len(NODE_CHUNK)
             .map(|(a, &node)| match this.is_split(node) {
-                false => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, false>(this, a), this.node_momentum::<Fast, false>(a)), || this.node_momentum::<Exact, false>(a)),
-                true => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, true>(this, a), this.node_momentum::<Fast, true>(a)), || this.node_momentum::<Exact, true>(a)),
+                false => gather!(avx, this.node_momentum::<false>(a)),
+                true => gather!(avx, this.node_momentum::<true>(a)),
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -921,7 +935,7 @@ fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Op
     fast().or_else(exact).expect("ExactSum always certifies its sums")
 }
 
-/// Copies of the fast (certified-sum) gathers and of the shape functions compiled with
+/// Copies of the gathers (fast and rerun, `K`) and of the shape functions compiled with
 /// AVX2 (see [`crate::simd`]): each is the baseline function inlined (`#[inline(always)]`)
 /// into a function with the `avx2` target feature, so the same IEEE operations run on
 /// wider registers and give the same bits.
@@ -930,28 +944,28 @@ mod avx2 {
     use super::*;
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_mass<S: Dimension, const FIELDS: bool, const VOLUME: bool>(s: &Simulation<S>, a: usize) -> Option<NodeMass<S::Vector>> {
-        s.node_mass::<Fast, FIELDS, VOLUME>(a)
+    pub(super) fn node_mass<S: Dimension, K: SumKind, const FIELDS: bool, const VOLUME: bool>(s: &Simulation<S>, a: usize) -> Option<NodeMass<S::Vector>> {
+        s.node_mass::<K, FIELDS, VOLUME>(a)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_forces<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, a: usize, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
-        s.node_forces::<Fast, CRACKS>(a, has_ext, has_body)
+    pub(super) fn node_forces<S: Dimension, K: SumKind, const CRACKS: bool>(s: &Simulation<S>, a: usize, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
+        s.node_forces::<K, CRACKS>(a, has_ext, has_body)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_momentum<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, a: usize) -> Option<[S::Vector; MAX_FIELDS]> {
-        s.node_momentum::<Fast, CRACKS>(a)
+    pub(super) fn node_momentum<S: Dimension, K: SumKind, const CRACKS: bool>(s: &Simulation<S>, a: usize) -> Option<[S::Vector; MAX_FIELDS]> {
+        s.node_momentum::<K, CRACKS>(a)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn velocity_gradient<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<S::Tensor> {
-        s.velocity_gradient::<Fast, CRACKS>(i)
+    pub(super) fn velocity_gradient<S: Dimension, K: SumKind, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<S::Tensor> {
+        s.velocity_gradient::<K, CRACKS>(i)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn particle_increments<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<(S::Vector, S::Vector)> {
-        s.particle_increments::<Fast, CRACKS>(i)
+    pub(super) fn particle_increments<S: Dimension, K: SumKind, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<(S::Vector, S::Vector)> {
+        s.particle_increments::<K, CRACKS>(i)
     }
 
     #[target_feature(enable = "avx2")]
