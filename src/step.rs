@@ -411,17 +411,24 @@ impl<S: Dimension> Simulation<S> {
         let nf = self.nodes.fields.len();
         let has_body = self.body_force.iter().any(|b| *b != S::Vector::zeros());
         let has_ext = !self.loads.is_empty() || has_body;
+        if has_ext {
+            self.mark_loaded_nodes(has_body);
+        }
         let mut sums = std::mem::take(&mut self.scratch.force);
         let this = &*self;
+        let loaded = &self.scratch.loaded_nodes;
         let avx = crate::simd::enabled();
         this.nodes
             .active
             .par_iter()
             .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|(a, &node)| match this.is_split(node) {
-                false => gather!(avx, this.node_forces::<false>(a, has_ext, has_body)),
-                true => gather!(avx, this.node_forces::<true>(a, has_ext, has_body)),
+            .map(|(a, &node)| {
+                let ext = has_ext && loaded[a];
+                match this.is_split(node) {
+                    false => gather!(avx, this.node_forces::<false>(a, ext, has_body)),
+                    true => gather!(avx, this.node_forces::<true>(a, ext, has_body)),
+                }
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -458,6 +465,28 @@ impl<S: Dimension> Simulation<S> {
             0.0
         };
         self.work.damping += self.options.dt * damp_power;
+    }
+
+    /// Which active nodes have a pair whose external force term `node_forces` computes:
+    /// those of the particles with a body force, a non-zero load or a non-finite mass
+    /// (`scratch.loaded_nodes`, by active position). At every other node all its terms are
+    /// the +0 of an unloaded particle, whose sum `node_forces` gives as +0 without
+    /// visiting its pairs: the same bits, without a test per pair (in the DCB, a few end
+    /// layers of particles carry the loads).
+    fn mark_loaded_nodes(&mut self, has_body: bool) {
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let loaded = &mut self.scratch.loaded_nodes;
+        loaded.clear();
+        loaded.resize(self.nodes.active.len(), false);
+        for i in 0..p.len() {
+            // The test of `node_forces` for a term it may skip.
+            let unloaded = !has_body && (0..S::DIM).all(|c| p.force[i][c].to_bits() == 0) && p.mass[i].is_finite();
+            if !unloaded {
+                for k in pairs.of_particle(i) {
+                    loaded[pairs.slot[pairs.node[k] as usize] as usize] = true;
+                }
+            }
+        }
     }
 
     /// Task 4: p' = p + Δt f_tot (eq. 29); then contact, with forces back-computed.
@@ -768,6 +797,8 @@ impl<S: Dimension> Simulation<S> {
     }
 
     /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
+    /// `has_ext` is false at a node no particle with an external force term touches
+    /// (`mark_loaded_nodes`): its external force is +0, as the sum of the terms gives.
     #[inline(always)]
     fn node_forces<K: SumKind, const CRACKS: bool>(&self, a: usize, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
         let (p, pairs) = (&self.particles, &self.pairs);
@@ -1047,6 +1078,8 @@ pub struct Scratch<S: Space> {
     pub slots: Vec<AtomicU32>,
     /// Particles with a load or a body force this step, ascending.
     pub forced: Vec<u32>,
+    /// Task 3: per active node, whether a particle with an external force term touches it.
+    pub loaded_nodes: Vec<bool>,
     /// Task 1 with cracks (2D): each crack's segment index, the crack each split pair
     /// crossed, and per particle whether any of its pairs is split.
     pub crack_index: Vec<crate::crack::geometry::SegmentIndex>,
@@ -1090,6 +1123,7 @@ impl<S: Space> Default for Scratch<S> {
             marks: Vec::new(),
             slots: Vec::new(),
             forced: Vec::new(),
+            loaded_nodes: Vec::new(),
             crack_index: Vec::new(),
             crack_index3: Vec::new(),
             crack_node_on3: Vec::new(),
