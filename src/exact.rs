@@ -482,7 +482,7 @@ impl<const N: usize> Default for FastSum3<N> {
     }
 }
 
-impl<const N: usize> FastSum3<N> {
+impl<const N: usize> Accumulator<N> for FastSum3<N> {
     #[inline(always)]
     fn add(&mut self, x: [f64; N]) {
         for k in 0..N {
@@ -505,6 +505,16 @@ impl<const N: usize> FastSum3<N> {
             self.m[k] = if ax < self.m[k] && ax != 0.0 { ax } else { self.m[k] };
         }
         self.n += 1;
+    }
+
+    /// Each lane by the certificates of [`FastSum`] (on the same s and c) or else those of
+    /// `certify3`; None if some lane passes neither (the gather then runs with [`Exact`]).
+    fn certified(&self) -> Option<[f64; N]> {
+        let mut out = [0.0; N];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = certify(self.s[k], self.c[k], self.a[k], self.m[k], self.n).or_else(|| certify3(self.s[k], self.c[k], self.d[k], self.a[k], self.m[k], self.n))?;
+        }
+        Some(out)
     }
 }
 
@@ -636,6 +646,7 @@ impl<const N: usize> Accumulator<N> for FastSum<N> {
 /// Rust cannot write `[f64; DIM + 1]` for a generic dimension.
 pub trait Lanes: Copy + Default + Send + Sync + std::ops::Index<usize, Output = f64> + std::ops::IndexMut<usize> + 'static {
     type Fast: LaneSum<Self>;
+    type Fast3: LaneSum<Self>;
     type Exact: LaneSum<Self>;
 }
 
@@ -661,6 +672,7 @@ where
     [f64; N]: Default,
 {
     type Fast = FastSum<N>;
+    type Fast3 = FastSum3<N>;
     type Exact = Rerun<N>;
 }
 
@@ -674,6 +686,13 @@ pub trait SumKind {
 pub struct Fast;
 /// [`Rerun`] lanes: [`ExactSum`] where [`FastSum`] cannot certify.
 pub struct Exact;
+/// [`FastSum3`] lanes: for the gathers that needed [`Exact`] in the last steps (the nodes
+/// on a mirror plane), which these certify without keeping the terms.
+pub struct Fast3;
+
+impl SumKind for Fast3 {
+    type Of<L: Lanes> = L::Fast3;
+}
 
 impl SumKind for Fast {
     type Of<L: Lanes> = L::Fast;

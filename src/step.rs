@@ -31,13 +31,13 @@
 
 use crate::check::{CheckError, MASS_TOL, MOMENTUM_TOL, PARTITION_TOL};
 use crate::dim::{GridGeometry, Space, SymOps, TensorOps, VectorOps};
-use crate::exact::{Exact, ExactSum, Fast, LaneSum, SumKind};
+use crate::exact::{Exact, ExactSum, Fast, Fast3, LaneSum, SumKind};
 use crate::grid::MAX_FIELDS;
 use crate::particles::NO_LOAD;
 use crate::shape::ShapeKind;
 use crate::simulation::{DampingOn, Dimension, Scheme, Simulation};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 
 /// `simd!(on, avx2_call, baseline_call)`: the AVX2 copy ([`avx2`]) when `on` (the value
 /// of [`crate::simd::enabled`], read once per task), else the baseline code; both give
@@ -68,6 +68,20 @@ macro_rules! gather {
     ($avx:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
         fast_or_exact(
             || simd!($avx, avx2::$f::<S, Fast, $($g),*>($this, $($arg),*), $this.$f::<Fast, $($g),*>($($arg),*)),
+            || simd!($avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
+        )
+    };
+}
+
+/// `gather_hinted!(avx, hint, this.f::<CONST_ARGS>(args))`: [`gather!`] for a node gather
+/// with a hint per node (see [`hinted`]): while the hint is set, the three-level sums
+/// ([`Fast3`]) run instead of the fast ones.
+macro_rules! gather_hinted {
+    ($avx:expr, $hint:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
+        hinted(
+            $hint,
+            || simd!($avx, avx2::$f::<S, Fast, $($g),*>($this, $($arg),*), $this.$f::<Fast, $($g),*>($($arg),*)),
+            || simd!($avx, avx2::$f::<S, Fast3, $($g),*>($this, $($arg),*), $this.$f::<Fast3, $($g),*>($($arg),*)),
             || simd!($avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
         )
     };
@@ -204,9 +218,12 @@ impl<S: Dimension> Simulation<S> {
             .par_iter()
             .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|(a, &node)| match (with_cracks, this.is_split(node)) {
-                (false, _) | (true, false) => gather!(avx, this.node_mass::<false, false>(a)),
-                (true, true) => gather!(avx, this.node_mass::<true, true>(a)),
+            .map(|(a, &node)| {
+                let hint = &this.scratch.gather_hints[node as usize][HINT_MASS];
+                match (with_cracks, this.is_split(node)) {
+                    (false, _) | (true, false) => gather_hinted!(avx, hint, this.node_mass::<false, false>(a)),
+                    (true, true) => gather_hinted!(avx, hint, this.node_mass::<true, true>(a)),
+                }
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -256,6 +273,7 @@ impl<S: Dimension> Simulation<S> {
         }
         if scratch.marks.len() != nn {
             scratch.marks = (0..nn).map(|_| AtomicBool::new(false)).collect();
+            scratch.gather_hints = (0..nn).map(|_| Default::default()).collect();
         }
         let chunks = rayon::current_num_threads().clamp(1, np.div_ceil(4096).max(1));
         let per_chunk = np.div_ceil(chunks).max(1);
@@ -425,9 +443,10 @@ impl<S: Dimension> Simulation<S> {
             .with_min_len(NODE_CHUNK)
             .map(|(a, &node)| {
                 let ext = has_ext && loaded[a];
+                let hint = &this.scratch.gather_hints[node as usize][HINT_FORCE];
                 match this.is_split(node) {
-                    false => gather!(avx, this.node_forces::<false>(a, ext, has_body)),
-                    true => gather!(avx, this.node_forces::<true>(a, ext, has_body)),
+                    false => gather_hinted!(avx, hint, this.node_forces::<false>(a, ext, has_body)),
+                    true => gather_hinted!(avx, hint, this.node_forces::<true>(a, ext, has_body)),
                 }
             })
             .collect_into_vec(&mut sums);
@@ -601,9 +620,12 @@ impl<S: Dimension> Simulation<S> {
             .par_iter()
             .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|(a, &node)| match this.is_split(node) {
-                false => gather!(avx, this.node_momentum::<false>(a)),
-                true => gather!(avx, this.node_momentum::<true>(a)),
+            .map(|(a, &node)| {
+                let hint = &this.scratch.gather_hints[node as usize][HINT_MOMENTUM];
+                match this.is_split(node) {
+                    false => gather_hinted!(avx, hint, this.node_momentum::<false>(a)),
+                    true => gather_hinted!(avx, hint, this.node_momentum::<true>(a)),
+                }
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -958,6 +980,36 @@ fn add_shared<L: crate::exact::Lanes, A: crate::exact::LaneSum<L>>(acc: &mut [A;
     acc[0].add_lanes(b);
 }
 
+/// Which node gather a hint of `Scratch::gather_hints` is for.
+const HINT_MASS: usize = 0;
+const HINT_FORCE: usize = 1;
+const HINT_MOMENTUM: usize = 2;
+/// Steps a node gather runs with [`Fast3`] after its fast sums failed, before it tries
+/// them again.
+const HINT_STEPS: u8 = 8;
+
+/// A node gather with a hint: the nodes whose fast sums fail in one step (the nodes on
+/// the mirror planes of a symmetric scene, where a sum cancels to zero or to round-off)
+/// nearly always fail in the next ones too, and then pay for two gathers, the fast one
+/// and the rerun. So after a failure the node's next [`HINT_STEPS`] gathers of that kind
+/// run with [`Fast3`] (three-level sums, which certify those sums) straight away, and
+/// then the fast sums are tried again. [`Exact`] follows whenever the sums in use cannot
+/// certify. Every path gives the correctly rounded sums, so the hint moves no bit; it is
+/// read and written only by the task gathering this node (one per node and step).
+#[inline(always)]
+fn hinted<T>(hint: &AtomicU8, fast: impl FnOnce() -> Option<T>, three: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
+    let steps = hint.load(Ordering::Relaxed);
+    if steps == 0 {
+        if let Some(v) = fast() {
+            return v;
+        }
+        hint.store(HINT_STEPS, Ordering::Relaxed);
+        return exact().expect("ExactSum always certifies its sums");
+    }
+    hint.store(steps - 1, Ordering::Relaxed);
+    three().or_else(exact).expect("ExactSum always certifies its sums")
+}
+
 /// The fast sums if they certify their results, else the gather again with [`Exact`]
 /// accumulators (`exact::Rerun`: exact sums for the lanes the fast sums cannot certify).
 /// Both give the correctly rounded sums, so the bits do not depend on which was used.
@@ -1074,6 +1126,9 @@ pub struct Scratch<S: Space> {
     pub chunk_nodes: Vec<Vec<u32>>,
     /// CSR build: per grid node, touched this step (false again once the active list is built).
     pub marks: Vec<AtomicBool>,
+    /// Per grid node, per node gather (mass, forces, momentum): the steps it still runs
+    /// with three-level sums after its fast sums failed (see `hinted`).
+    pub gather_hints: Vec<[AtomicU8; 3]>,
     /// CSR build: the pair slots, written by the chunks in parallel.
     pub slots: Vec<AtomicU32>,
     /// Particles with a load or a body force this step, ascending.
@@ -1121,6 +1176,7 @@ impl<S: Space> Default for Scratch<S> {
             chunk_counts: Vec::new(),
             chunk_nodes: Vec::new(),
             marks: Vec::new(),
+            gather_hints: Vec::new(),
             slots: Vec::new(),
             forced: Vec::new(),
             loaded_nodes: Vec::new(),
