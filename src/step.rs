@@ -60,29 +60,35 @@ macro_rules! simd {
     }};
 }
 
-/// `gather!(avx, this.f::<CONST_ARGS>(args))`: the certified sums of one gather, the same
-/// bits whichever way they come: the fast sums ([`Fast`]), else the gather again with
-/// [`Exact`] accumulators (see [`fast_or_exact`]); each in its AVX2 copy ([`avx2`]) when
-/// `avx` is set.
+/// `gather!(avx, rerun_avx, this.f::<CONST_ARGS>(args))`: the certified sums of one
+/// gather, the same bits whichever way they come: the fast sums ([`Fast`]), else the
+/// gather again with [`Exact`] accumulators (see [`fast_or_exact`]); the fast sums in their
+/// AVX2 copy ([`avx2`]) when `avx` is set, the rerun when `rerun_avx` is.
+///
+/// The gathers of the pairs a crack may split (`CRACKS = true`) pass `rerun_avx = false`:
+/// LLVM's AVX2 code of their reruns contains a `vmovq` encoding (VEX 66 0F D6, register
+/// to register) that valgrind 3.19 cannot decode, which stopped callgrind on cracked
+/// scenes; they are few, so their reruns run the baseline copy.
 macro_rules! gather {
-    ($avx:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
+    ($avx:expr, $rerun_avx:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
         fast_or_exact(
             || simd!($avx, avx2::$f::<S, Fast, $($g),*>($this, $($arg),*), $this.$f::<Fast, $($g),*>($($arg),*)),
-            || simd!($avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
+            || simd!($rerun_avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
         )
     };
 }
 
-/// `gather_hinted!(avx, hint, this.f::<CONST_ARGS>(args))`: [`gather!`] for a node gather
-/// with a hint per node (see [`hinted`]): while the hint is set, the three-level sums
-/// ([`Fast3`]) run instead of the fast ones.
+/// `gather_hinted!(avx, rerun_avx, hint, this.f::<CONST_ARGS>(args))`: [`gather!`] for a
+/// node gather with a hint per node (see [`hinted`]): while the hint is set, the
+/// three-level sums ([`Fast3`]) run instead of the fast ones (in the AVX2 copy when
+/// `rerun_avx` is set).
 macro_rules! gather_hinted {
-    ($avx:expr, $hint:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
+    ($avx:expr, $rerun_avx:expr, $hint:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
         hinted(
             $hint,
             || simd!($avx, avx2::$f::<S, Fast, $($g),*>($this, $($arg),*), $this.$f::<Fast, $($g),*>($($arg),*)),
-            || simd!($avx, avx2::$f::<S, Fast3, $($g),*>($this, $($arg),*), $this.$f::<Fast3, $($g),*>($($arg),*)),
-            || simd!($avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
+            || simd!($rerun_avx, avx2::$f::<S, Fast3, $($g),*>($this, $($arg),*), $this.$f::<Fast3, $($g),*>($($arg),*)),
+            || simd!($rerun_avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
         )
     };
 }
@@ -221,8 +227,8 @@ impl<S: Dimension> Simulation<S> {
             .map(|(a, &node)| {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MASS];
                 match (with_cracks, this.is_split(node)) {
-                    (false, _) | (true, false) => gather_hinted!(avx, hint, this.node_mass::<false, false>(a)),
-                    (true, true) => gather_hinted!(avx, hint, this.node_mass::<true, true>(a)),
+                    (false, _) | (true, false) => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
+                    (true, true) => gather_hinted!(avx, false, hint, this.node_mass::<true, true>(a)),
                 }
             })
             .collect_into_vec(&mut sums);
@@ -402,8 +408,8 @@ impl<S: Dimension> Simulation<S> {
         let this = &*self;
         let avx = crate::simd::enabled();
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => gather!(avx, this.velocity_gradient::<false>(i)),
-            true => gather!(avx, this.velocity_gradient::<true>(i)),
+            false => gather!(avx, avx, this.velocity_gradient::<false>(i)),
+            true => gather!(avx, false, this.velocity_gradient::<true>(i)),
         };
         // Velocity gradients first (reading the grid), then the particle updates.
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(grad_v).collect_into_vec(&mut grads);
@@ -445,8 +451,8 @@ impl<S: Dimension> Simulation<S> {
                 let ext = has_ext && loaded[a];
                 let hint = &this.scratch.gather_hints[node as usize][HINT_FORCE];
                 match this.is_split(node) {
-                    false => gather_hinted!(avx, hint, this.node_forces::<false>(a, ext, has_body)),
-                    true => gather_hinted!(avx, hint, this.node_forces::<true>(a, ext, has_body)),
+                    false => gather_hinted!(avx, avx, hint, this.node_forces::<false>(a, ext, has_body)),
+                    true => gather_hinted!(avx, false, hint, this.node_forces::<true>(a, ext, has_body)),
                 }
             })
             .collect_into_vec(&mut sums);
@@ -564,8 +570,8 @@ impl<S: Dimension> Simulation<S> {
         let this = &*self;
         let avx = crate::simd::enabled();
         let increments = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => gather!(avx, this.particle_increments::<false>(i)),
-            true => gather!(avx, this.particle_increments::<true>(i)),
+            false => gather!(avx, avx, this.particle_increments::<false>(i)),
+            true => gather!(avx, false, this.particle_increments::<true>(i)),
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
@@ -623,8 +629,8 @@ impl<S: Dimension> Simulation<S> {
             .map(|(a, &node)| {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MOMENTUM];
                 match this.is_split(node) {
-                    false => gather_hinted!(avx, hint, this.node_momentum::<false>(a)),
-                    true => gather_hinted!(avx, hint, this.node_momentum::<true>(a)),
+                    false => gather_hinted!(avx, avx, hint, this.node_momentum::<false>(a)),
+                    true => gather_hinted!(avx, false, hint, this.node_momentum::<true>(a)),
                 }
             })
             .collect_into_vec(&mut sums);
