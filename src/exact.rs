@@ -382,15 +382,19 @@ impl<const N: usize> Accumulator<N> for ExactSums<N> {
 const RERUN_TERMS: usize = 256;
 
 /// The accumulator of a gather's rerun ([`Exact`]), when its [`FastSum`] could not
-/// certify every lane: the fast sums of every lane again, and the terms themselves, so
-/// that at the end only the lanes the fast sums cannot certify are summed with
-/// [`ExactSum`] — in a symmetric scene typically one lane of a node's N, the one whose
-/// sum is exactly zero. A certified fast sum and the exact sum are both the correctly
-/// rounded sum, so which one a lane used does not show in the bits. Past
-/// [`RERUN_TERMS`] terms every lane is summed exactly. Fixed size, no allocation.
+/// certify every lane: the fast sums of every lane again, one more level of compensation
+/// ([`FastSum3`]), and the terms themselves. At the end each lane takes the first of: the
+/// fast sum's certificates (`certify`), the three-level certificates (`certify3`), the
+/// exact sum of its kept terms ([`ExactSum`]). The lanes the fast sum cannot certify are
+/// nearly always sums that cancel to zero or to the round-off of their terms (the nodes
+/// on the mirror planes of a symmetric scene); the third level certifies those without
+/// the exact sum, which costs several times more per term. Every certified value and the
+/// exact sum are the correctly rounded sum, so which one a lane used does not show in the
+/// bits. Past [`RERUN_TERMS`] terms every lane is summed exactly. Fixed size, no
+/// allocation.
 #[derive(Clone)]
 pub struct Rerun<const N: usize> {
-    fast: FastSum<N>,
+    fast: FastSum3<N>,
     /// Terms kept so far: `terms[..len]` are written.
     len: usize,
     /// Not initialised beyond `len`: zeroing this (8 KB for four lanes) for every
@@ -403,7 +407,7 @@ pub struct Rerun<const N: usize> {
 impl<const N: usize> Default for Rerun<N> {
     #[inline]
     fn default() -> Self {
-        Rerun { fast: FastSum::default(), len: 0, terms: [MaybeUninit::uninit(); RERUN_TERMS], spilled: None }
+        Rerun { fast: FastSum3::default(), len: 0, terms: [MaybeUninit::uninit(); RERUN_TERMS], spilled: None }
     }
 }
 
@@ -418,7 +422,7 @@ impl<const N: usize> Rerun<N> {
 }
 
 impl<const N: usize> Accumulator<N> for Rerun<N> {
-    #[inline]
+    #[inline(always)]
     fn add(&mut self, x: [f64; N]) {
         self.fast.add(x);
         if let Some(exact) = self.spilled.as_mut() {
@@ -427,9 +431,7 @@ impl<const N: usize> Accumulator<N> for Rerun<N> {
             self.terms[self.len].write(x);
             self.len += 1;
         } else {
-            let mut exact = ExactSums::default();
-            self.kept().iter().chain([&x]).for_each(|&t| exact.add(t));
-            self.spilled = Some(exact);
+            self.spill(x);
         }
     }
 
@@ -438,7 +440,81 @@ impl<const N: usize> Accumulator<N> for Rerun<N> {
             return exact.certified();
         }
         let (f, terms) = (&self.fast, self.kept());
-        Some(std::array::from_fn(|k| certify(f.s[k], f.c[k], f.a[k], f.m[k], f.n).unwrap_or_else(|| sum_iter(terms.iter().map(|t| t[k])))))
+        // f.m is the smallest non-zero |x|, which both certificates accept (see FastSum).
+        Some(std::array::from_fn(|k| {
+            certify(f.s[k], f.c[k], f.a[k], f.m[k], f.n)
+                .or_else(|| certify3(f.s[k], f.c[k], f.d[k], f.a[k], f.m[k], f.n))
+                .unwrap_or_else(|| sum_iter(terms.iter().map(|t| t[k])))
+        }))
+    }
+}
+
+impl<const N: usize> Rerun<N> {
+    /// More terms than `terms` holds: from now on every lane is summed exactly.
+    #[cold]
+    #[inline(never)]
+    fn spill(&mut self, x: [f64; N]) {
+        let mut exact = ExactSums::default();
+        self.kept().iter().chain([&x]).for_each(|&t| exact.add(t));
+        self.spilled = Some(exact);
+    }
+}
+
+/// [`FastSum`] with one more level of compensation: the errors t_i of the running sum s
+/// are themselves summed with TwoSum into c (the same c as [`FastSum`]'s, to the bit),
+/// and the errors e_i of that sum in plain floating point into d. Then the exact sum is
+/// T = s + c + Σe_i, and the error of s + c + d is of order n³u³Σ|x| instead of n²u²Σ|x|
+/// (see `certify3`). Used only in a gather's rerun ([`Rerun`]).
+#[derive(Clone, Copy, Debug)]
+pub struct FastSum3<const N: usize> {
+    s: [f64; N],
+    c: [f64; N],
+    d: [f64; N],
+    a: [f64; N],
+    m: [f64; N],
+    n: u32,
+}
+
+impl<const N: usize> Default for FastSum3<N> {
+    #[inline]
+    fn default() -> Self {
+        FastSum3 { s: [-0.0; N], c: [0.0; N], d: [0.0; N], a: [0.0; N], m: [f64::INFINITY; N], n: 0 }
+    }
+}
+
+impl<const N: usize> Accumulator<N> for FastSum3<N> {
+    #[inline(always)]
+    fn add(&mut self, x: [f64; N]) {
+        for k in 0..N {
+            let (s0, x) = (self.s[k], x[k]);
+            let s = s0 + x;
+            let bb = s - s0;
+            let t = (s0 - (s - bb)) + (x - bb);
+            self.s[k] = s;
+            let c0 = self.c[k];
+            let c = c0 + t;
+            let bc = c - c0;
+            self.d[k] += (c0 - (c - bc)) + (t - bc);
+            self.c[k] = c;
+            let ax = x.abs();
+            self.a[k] += ax;
+            // The smallest non-zero |x|: a zero term is a multiple of every power of two,
+            // so it does not lower q (the smallest ulp among the non-zero terms) and need
+            // not disable certificate 1 here (the zeros of clamped nodes and of gradient
+            // components at a node's coordinate would).
+            self.m[k] = if ax < self.m[k] && ax != 0.0 { ax } else { self.m[k] };
+        }
+        self.n += 1;
+    }
+
+    /// Each lane by the certificates of [`FastSum`] (on the same s and c) or else those of
+    /// `certify3`; None if some lane passes neither (the gather then runs with [`Exact`]).
+    fn certified(&self) -> Option<[f64; N]> {
+        let mut out = [0.0; N];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = certify(self.s[k], self.c[k], self.a[k], self.m[k], self.n).or_else(|| certify3(self.s[k], self.c[k], self.d[k], self.a[k], self.m[k], self.n))?;
+        }
+        Some(out)
     }
 }
 
@@ -464,7 +540,9 @@ impl<const N: usize> Accumulator<N> for Rerun<N> {
 ///    q = the smallest ulp among the terms (a rounded sum of multiples of a power of two
 ///    q is again one), so T − (s + c) is a multiple of q. With all terms normal, the
 ///    smallest term's ulp exceeds m·2^−53, and ulps grow with magnitude, so q > m·2^−53.
-///    (A zero term gives m = 0 and this certificate is not used.)
+///    (A zero term gives m = 0 and this certificate is not used. Zero terms are
+///    multiples of every q, so the argument holds as well with m the smallest non-zero
+///    |x|, which the reruns' [`FastSum3`] tracks; the fast sum saves that test.)
 ///    If db < m·2^−53 (exact, m ≥ 2^−900), then |T − (s + c)| < q forces T = s + c, and
 ///    r = fl(s + c) is the correctly rounded T by IEEE addition itself — ties to even
 ///    included, and an exact zero comes out +0 as it must with non-zero terms (c is never
@@ -522,32 +600,43 @@ impl<const N: usize> Accumulator<N> for FastSum<N> {
         self.n += 1;
     }
 
+    /// Both certificates of `certify` for all lanes at once, without branches (the same
+    /// tests on the same values, so the same verdicts; the half gap of `half_gap` is built
+    /// from r's bits, which vectorises): one branch on the conjunction, and the rerun
+    /// (None) if any lane fails both.
     #[inline(always)]
     fn certified(&self) -> Option<[f64; N]> {
-        // The common case first, for all lanes at once and without branches: every lane
-        // passes certificate 1 of `certify` (same tests, same arithmetic), which then
-        // returns r = s + c for each.
         let n = self.n;
-        if n != 0 && n <= 1 << 20 {
-            let nf = n as f64;
-            let n2 = nf * nf;
-            let mut out = [0.0; N];
-            let mut ok = true;
-            for (k, o) in out.iter_mut().enumerate() {
-                let (a, m) = (self.a[k], self.m[k]);
-                let db = n2 * (pow2(-104) * a);
-                *o = self.s[k] + self.c[k];
-                ok &= (a >= pow2(-800)) & (a <= pow2(1000)) & (m >= pow2(-900)) & (db < m * pow2(-53));
-            }
-            if ok {
-                return Some(out);
-            }
+        if n == 0 {
+            return Some([0.0; N]);
         }
+        if n > 1 << 20 {
+            return None;
+        }
+        let nf = n as f64;
+        let n2 = nf * nf;
         let mut out = [0.0; N];
+        let mut ok = true;
         for (k, o) in out.iter_mut().enumerate() {
-            *o = certify(self.s[k], self.c[k], self.a[k], self.m[k], self.n)?;
+            let (s, c, a, m) = (self.s[k], self.c[k], self.a[k], self.m[k]);
+            let db = n2 * (pow2(-104) * a);
+            let (r, t2) = two_sum(s, c);
+            let in_range = (a >= pow2(-800)) & (a <= pow2(1000));
+            // 1. δ = 0.
+            let exact = (m >= pow2(-900)) & (db < m * pow2(-53));
+            // 2. Inside the rounding interval: h = 2^(k−53), or 2^(k−54) at a power of two,
+            // for 2^k ≤ |r| (the exponent field minus 53 or 54; only used when |r| ≥ 2^−900,
+            // so it does not underflow).
+            let bits = r.to_bits() & !SIGN_BIT;
+            let drop = if bits & FRAC_MASK == 0 { 54u64 << 52 } else { 53u64 << 52 };
+            let h = f64::from_bits((bits & !FRAC_MASK).wrapping_sub(drop));
+            let inside = (bits >= pow2(-900).to_bits()) & (2.0 * db < h - t2.abs());
+            // All terms ±0: their IEEE sum s.
+            let zeros = a == 0.0;
+            *o = if zeros { s } else { r };
+            ok &= zeros | (in_range & (exact | inside));
         }
-        Some(out)
+        ok.then_some(out)
     }
 }
 
@@ -557,6 +646,7 @@ impl<const N: usize> Accumulator<N> for FastSum<N> {
 /// Rust cannot write `[f64; DIM + 1]` for a generic dimension.
 pub trait Lanes: Copy + Default + Send + Sync + std::ops::Index<usize, Output = f64> + std::ops::IndexMut<usize> + 'static {
     type Fast: LaneSum<Self>;
+    type Fast3: LaneSum<Self>;
     type Exact: LaneSum<Self>;
 }
 
@@ -582,6 +672,7 @@ where
     [f64; N]: Default,
 {
     type Fast = FastSum<N>;
+    type Fast3 = FastSum3<N>;
     type Exact = Rerun<N>;
 }
 
@@ -595,6 +686,13 @@ pub trait SumKind {
 pub struct Fast;
 /// [`Rerun`] lanes: [`ExactSum`] where [`FastSum`] cannot certify.
 pub struct Exact;
+/// [`FastSum3`] lanes: for the gathers that needed [`Exact`] in the last steps (the nodes
+/// on a mirror plane), which these certify without keeping the terms.
+pub struct Fast3;
+
+impl SumKind for Fast3 {
+    type Of<L: Lanes> = L::Fast3;
+}
 
 impl SumKind for Fast {
     type Of<L: Lanes> = L::Fast;
@@ -635,6 +733,80 @@ fn certify(s: f64, c: f64, a: f64, m: f64, n: u32) -> Option<f64> {
     let k = (bits >> 52) as i32 - 1023;
     let h = if bits & FRAC_MASK == 0 { pow2(k - 54) } else { pow2(k - 53) };
     (2.0 * db < h - t2.abs()).then_some(r)
+}
+
+/// TwoSum: (a + b rounded, its error), a + b = sum + err exactly (Knuth).
+#[inline(always)]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// Half the distance from r (|r| ≥ 2^−900) to its nearest neighbour: U/2 with U = ulp(r),
+/// U/4 when |r| is a power of two (its neighbour towards zero is U/2 away).
+#[inline(always)]
+fn half_gap(r: f64) -> f64 {
+    let bits = r.to_bits() & !SIGN_BIT;
+    let k = (bits >> 52) as i32 - 1023;
+    if bits & FRAC_MASK == 0 {
+        pow2(k - 54)
+    } else {
+        pow2(k - 53)
+    }
+}
+
+/// The certificates of [`FastSum3`] for one lane, when those of [`FastSum`] (`certify`,
+/// on the same s and c) fail.
+///
+/// Error bound. TwoSum is error-free, so T = s + Σt_i = s + c + Σe_i exactly. With
+/// |e_i| ≤ u|c_i|, |c_i| ≤ (1+u)^i Σ_{j≤i}|t_j|, |t_j| ≤ u|s_j| and |s_j| ≤ (1+u)^j A
+/// (A = Σ|x_i|), Σ|e_i| ≤ n²u²(1+u)^{2n} A; the recursive sum d has
+/// |d − Σe_i| ≤ γ_{n−1} Σ|e_i|, and the computed a ≥ (1 − γ_{n−1}) A. For n ≤ 2^16 this
+/// gives δ₃ := |T − (s + c + d)| < n³u³a(1 + 10⁻⁹) < 2n³u³a ≤ db₃ := fl(n³·(2^−158·a))
+/// (n³ ≤ 2^48 and 2^−158·a are exact for a ≥ 2^−800, so db₃ ≥ 2n³u³a(1 − u)).
+///
+/// With (r₁, e₁) = TwoSum(s, c), (z, e_z) = TwoSum(e₁, d), (r, t₂) = TwoSum(r₁, z):
+/// s + c + d = r + t₂ + e_z exactly, so |T − r| ≤ |t₂| + |e_z| + δ₃.
+///
+/// 1. **Exact.** Here m is the smallest *non-zero* |x| (zero terms are multiples of every
+///    power of two). If m ≥ 2^−900 and db₃ < m·2^−53, then δ₃ < q (the smallest ulp among
+///    the non-zero terms, > m·2^−53, see [`FastSum`]); s, c, d and every t_i, e_i are
+///    multiples of q (a rounded sum of multiples of q is one), so T = s + c + d exactly.
+///    If then e_z = 0, T = r₁ + z exactly, and r = fl(r₁ + z) is the correctly rounded
+///    sum by IEEE addition itself (ties to even included); an exact zero comes out +0
+///    (c is never −0, so neither are r₁ and r), as it must with a non-zero term (a > 0).
+/// 2. **Inside the rounding interval.** If |r| ≥ 2^−900 and |t₂| + |e_z| + δ₃ < h (half
+///    the gap to r's nearest neighbour, [`half_gap`]), r is the nearest double to T. The
+///    test `fl(w·(1 + 2^−50)) < h` with w = fl(fl(|t₂| + |e_z|) + db₃) implies it: the
+///    two additions of non-negative numbers lose at most a factor (1 − u)², the product
+///    at most (1 − u), and (1 + 2^−50)(1 − u) > (1 − u)^−2.
+///
+/// Otherwise None: the exact sum decides (non-finite terms, Σ|x| outside [2^−800, 2^1000],
+/// more than 2^16 terms, or a sum within δ₃ of a rounding boundary).
+#[inline]
+fn certify3(s: f64, c: f64, d: f64, a: f64, m: f64, n: u32) -> Option<f64> {
+    if n == 0 || a == 0.0 {
+        return certify(s, c, a, m, n);
+    }
+    if !(a >= pow2(-800) && a <= pow2(1000)) || n > 1 << 16 {
+        return None;
+    }
+    let nf = n as f64;
+    let db3 = (nf * nf * nf) * (pow2(-158) * a);
+    let (r1, e1) = two_sum(s, c);
+    let (z, ez) = two_sum(e1, d);
+    let (r, t2) = two_sum(r1, z);
+    // 1. T = s + c + d = r₁ + z exactly, and r = fl(r₁ + z).
+    if m >= pow2(-900) && db3 < m * pow2(-53) && ez == 0.0 {
+        return Some(r);
+    }
+    // 2. T strictly inside r's rounding interval.
+    if (r.to_bits() & !SIGN_BIT) < pow2(-900).to_bits() {
+        return None;
+    }
+    let w = (t2.abs() + ez.abs()) + db3;
+    (w * (1.0 + pow2(-50)) < half_gap(r)).then_some(r)
 }
 
 /// Correctly rounded sum of a slice.
@@ -1190,6 +1362,49 @@ mod tests {
             let (r, e) = (rerun.certified().unwrap(), exact.certified().unwrap());
             assert_eq!(r.map(f64::to_bits), e.map(f64::to_bits), "{n} terms");
         }
+    }
+
+    #[test]
+    fn the_three_level_certificates_match_the_exact_sum() {
+        // Mirror-plane sums: ± pairs of terms over up to 60 binades (exact zeros), the same
+        // with one term perturbed by a few ulps (a residual of the order of the round-off
+        // of the terms), and plain sums; shuffled. Whatever certify3 certifies is the
+        // exact sum, to the bit; and it certifies nearly all of the zeros and residuals
+        // the two-level certificates cannot.
+        let mut seed = 4711;
+        let (mut hard, mut certified3) = (0, 0);
+        for case in 0..20_000 {
+            let n = 2 + (next(&mut seed) % 60) as usize;
+            let lo = 960 + next(&mut seed) % 40;
+            let mut terms: Vec<f64> = (0..n).map(|_| random_double(&mut seed, lo..lo + 60)).collect();
+            match case % 3 {
+                0 => terms.extend(terms.clone().iter().map(|x| -x)),
+                1 => {
+                    terms.extend(terms.clone().iter().map(|x| -x));
+                    let k = (next(&mut seed) % terms.len() as u64) as usize;
+                    terms[k] = f64::from_bits(terms[k].to_bits() + 1 + next(&mut seed) % 8);
+                }
+                _ => {}
+            }
+            for k in (1..terms.len()).rev() {
+                terms.swap(k, (next(&mut seed) % (k as u64 + 1)) as usize);
+            }
+            let mut f = FastSum3::<1>::default();
+            terms.iter().for_each(|&t| f.add([t]));
+            let exact = sum(&terms);
+            if certify(f.s[0], f.c[0], f.a[0], f.m[0], f.n).is_none() {
+                hard += 1;
+                if let Some(v) = certify3(f.s[0], f.c[0], f.d[0], f.a[0], f.m[0], f.n) {
+                    certified3 += 1;
+                    assert_eq!(v.to_bits(), exact.to_bits(), "{terms:?}");
+                }
+            }
+            let mut r = Rerun::<1>::default();
+            terms.iter().for_each(|&t| r.add([t]));
+            assert_eq!(r.certified().unwrap()[0].to_bits(), exact.to_bits(), "{terms:?}");
+        }
+        assert!(hard > 5_000, "{hard} sums the two-level certificates cannot certify");
+        assert!(certified3 as f64 > 0.99 * hard as f64, "certify3 certified {certified3} of {hard}");
     }
 
     #[test]

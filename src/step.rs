@@ -8,8 +8,9 @@
 //!
 //! Speed (issue 6), without changing a bit:
 //! * the sums are computed with [`FastSum`], which certifies correct rounding, and redone
-//!   with [`ExactSum`] in the rare case it cannot — only the lanes it cannot certify
-//!   (see `fast_or_exact`, and `Rerun` in `exact.rs`);
+//!   in the rare case it cannot with a three-level compensated sum that certifies the
+//!   cancelling sums of mirror planes, and [`ExactSum`] only for the lanes neither can
+//!   certify (see `fast_or_exact`, and `Rerun` in `exact.rs`);
 //! * per-node and per-particle work runs in parallel with rayon: each node's or
 //!   particle's sums are independent, results are collected in index order into buffers
 //!   kept across steps ([`Scratch`]), and stored serially;
@@ -30,13 +31,13 @@
 
 use crate::check::{CheckError, MASS_TOL, MOMENTUM_TOL, PARTITION_TOL};
 use crate::dim::{GridGeometry, Space, SymOps, TensorOps, VectorOps};
-use crate::exact::{Exact, ExactSum, Fast, LaneSum, SumKind};
+use crate::exact::{Exact, ExactSum, Fast, Fast3, LaneSum, SumKind};
 use crate::grid::MAX_FIELDS;
 use crate::particles::NO_LOAD;
 use crate::shape::ShapeKind;
 use crate::simulation::{DampingOn, Dimension, Scheme, Simulation};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 
 /// `simd!(on, avx2_call, baseline_call)`: the AVX2 copy ([`avx2`]) when `on` (the value
 /// of [`crate::simd::enabled`], read once per task), else the baseline code; both give
@@ -57,6 +58,39 @@ macro_rules! simd {
             $base
         }
     }};
+}
+
+/// `gather!(avx, rerun_avx, this.f::<CONST_ARGS>(args))`: the certified sums of one
+/// gather, the same bits whichever way they come: the fast sums ([`Fast`]), else the
+/// gather again with [`Exact`] accumulators (see [`fast_or_exact`]); the fast sums in their
+/// AVX2 copy ([`avx2`]) when `avx` is set, the rerun when `rerun_avx` is.
+///
+/// The gathers of the pairs a crack may split (`CRACKS = true`) pass `rerun_avx = false`:
+/// LLVM's AVX2 code of their reruns contains a `vmovq` encoding (VEX 66 0F D6, register
+/// to register) that valgrind 3.19 cannot decode, which stopped callgrind on cracked
+/// scenes; they are few, so their reruns run the baseline copy.
+macro_rules! gather {
+    ($avx:expr, $rerun_avx:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
+        fast_or_exact(
+            || simd!($avx, avx2::$f::<S, Fast, $($g),*>($this, $($arg),*), $this.$f::<Fast, $($g),*>($($arg),*)),
+            || simd!($rerun_avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
+        )
+    };
+}
+
+/// `gather_hinted!(avx, rerun_avx, hint, this.f::<CONST_ARGS>(args))`: [`gather!`] for a
+/// node gather with a hint per node (see [`hinted`]): while the hint is set, the
+/// three-level sums ([`Fast3`]) run instead of the fast ones (in the AVX2 copy when
+/// `rerun_avx` is set).
+macro_rules! gather_hinted {
+    ($avx:expr, $rerun_avx:expr, $hint:expr, $this:ident . $f:ident :: <$($g:tt),*> ($($arg:expr),*)) => {
+        hinted(
+            $hint,
+            || simd!($avx, avx2::$f::<S, Fast, $($g),*>($this, $($arg),*), $this.$f::<Fast, $($g),*>($($arg),*)),
+            || simd!($rerun_avx, avx2::$f::<S, Fast3, $($g),*>($this, $($arg),*), $this.$f::<Fast3, $($g),*>($($arg),*)),
+            || simd!($rerun_avx, avx2::$f::<S, Exact, $($g),*>($this, $($arg),*), $this.$f::<Exact, $($g),*>($($arg),*)),
+        )
+    };
 }
 
 impl<S: Dimension> Simulation<S> {
@@ -190,9 +224,12 @@ impl<S: Dimension> Simulation<S> {
             .par_iter()
             .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|(a, &node)| match (with_cracks, this.is_split(node)) {
-                (false, _) | (true, false) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, false, false>(this, a), this.node_mass::<Fast, false, false>(a)), || this.node_mass::<Exact, false, false>(a)),
-                (true, true) => fast_or_exact(|| simd!(avx, avx2::node_mass::<S, true, true>(this, a), this.node_mass::<Fast, true, true>(a)), || this.node_mass::<Exact, true, true>(a)),
+            .map(|(a, &node)| {
+                let hint = &this.scratch.gather_hints[node as usize][HINT_MASS];
+                match (with_cracks, this.is_split(node)) {
+                    (false, _) | (true, false) => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
+                    (true, true) => gather_hinted!(avx, false, hint, this.node_mass::<true, true>(a)),
+                }
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -242,6 +279,7 @@ impl<S: Dimension> Simulation<S> {
         }
         if scratch.marks.len() != nn {
             scratch.marks = (0..nn).map(|_| AtomicBool::new(false)).collect();
+            scratch.gather_hints = (0..nn).map(|_| Default::default()).collect();
         }
         let chunks = rayon::current_num_threads().clamp(1, np.div_ceil(4096).max(1));
         let per_chunk = np.div_ceil(chunks).max(1);
@@ -370,8 +408,8 @@ impl<S: Dimension> Simulation<S> {
         let this = &*self;
         let avx = crate::simd::enabled();
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<S, false>(this, i), this.velocity_gradient::<Fast, false>(i)), || this.velocity_gradient::<Exact, false>(i)),
-            true => fast_or_exact(|| simd!(avx, avx2::velocity_gradient::<S, true>(this, i), this.velocity_gradient::<Fast, true>(i)), || this.velocity_gradient::<Exact, true>(i)),
+            false => gather!(avx, avx, this.velocity_gradient::<false>(i)),
+            true => gather!(avx, false, this.velocity_gradient::<true>(i)),
         };
         // Velocity gradients first (reading the grid), then the particle updates.
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(grad_v).collect_into_vec(&mut grads);
@@ -397,17 +435,25 @@ impl<S: Dimension> Simulation<S> {
         let nf = self.nodes.fields.len();
         let has_body = self.body_force.iter().any(|b| *b != S::Vector::zeros());
         let has_ext = !self.loads.is_empty() || has_body;
+        if has_ext {
+            self.mark_loaded_nodes(has_body);
+        }
         let mut sums = std::mem::take(&mut self.scratch.force);
         let this = &*self;
+        let loaded = &self.scratch.loaded_nodes;
         let avx = crate::simd::enabled();
         this.nodes
             .active
             .par_iter()
             .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|(a, &node)| match this.is_split(node) {
-                false => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, false>(this, a, has_ext, has_body), this.node_forces::<Fast, false>(a, has_ext, has_body)), || this.node_forces::<Exact, false>(a, has_ext, has_body)),
-                true => fast_or_exact(|| simd!(avx, avx2::node_forces::<S, true>(this, a, has_ext, has_body), this.node_forces::<Fast, true>(a, has_ext, has_body)), || this.node_forces::<Exact, true>(a, has_ext, has_body)),
+            .map(|(a, &node)| {
+                let ext = has_ext && loaded[a];
+                let hint = &this.scratch.gather_hints[node as usize][HINT_FORCE];
+                match this.is_split(node) {
+                    false => gather_hinted!(avx, avx, hint, this.node_forces::<false>(a, ext, has_body)),
+                    true => gather_hinted!(avx, false, hint, this.node_forces::<true>(a, ext, has_body)),
+                }
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -444,6 +490,28 @@ impl<S: Dimension> Simulation<S> {
             0.0
         };
         self.work.damping += self.options.dt * damp_power;
+    }
+
+    /// Which active nodes have a pair whose external force term `node_forces` computes:
+    /// those of the particles with a body force, a non-zero load or a non-finite mass
+    /// (`scratch.loaded_nodes`, by active position). At every other node all its terms are
+    /// the +0 of an unloaded particle, whose sum `node_forces` gives as +0 without
+    /// visiting its pairs: the same bits, without a test per pair (in the DCB, a few end
+    /// layers of particles carry the loads).
+    fn mark_loaded_nodes(&mut self, has_body: bool) {
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let loaded = &mut self.scratch.loaded_nodes;
+        loaded.clear();
+        loaded.resize(self.nodes.active.len(), false);
+        for i in 0..p.len() {
+            // The test of `node_forces` for a term it may skip.
+            let unloaded = !has_body && (0..S::DIM).all(|c| p.force[i][c].to_bits() == 0) && p.mass[i].is_finite();
+            if !unloaded {
+                for k in pairs.of_particle(i) {
+                    loaded[pairs.slot[pairs.node[k] as usize] as usize] = true;
+                }
+            }
+        }
     }
 
     /// Task 4: p' = p + Δt f_tot (eq. 29); then contact, with forces back-computed.
@@ -502,8 +570,8 @@ impl<S: Dimension> Simulation<S> {
         let this = &*self;
         let avx = crate::simd::enabled();
         let increments = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => fast_or_exact(|| simd!(avx, avx2::particle_increments::<S, false>(this, i), this.particle_increments::<Fast, false>(i)), || this.particle_increments::<Exact, false>(i)),
-            true => fast_or_exact(|| simd!(avx, avx2::particle_increments::<S, true>(this, i), this.particle_increments::<Fast, true>(i)), || this.particle_increments::<Exact, true>(i)),
+            false => gather!(avx, avx, this.particle_increments::<false>(i)),
+            true => gather!(avx, false, this.particle_increments::<true>(i)),
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
         let p = &mut self.particles;
@@ -558,9 +626,12 @@ impl<S: Dimension> Simulation<S> {
             .par_iter()
             .enumerate()
             .with_min_len(NODE_CHUNK)
-            .map(|(a, &node)| match this.is_split(node) {
-                false => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, false>(this, a), this.node_momentum::<Fast, false>(a)), || this.node_momentum::<Exact, false>(a)),
-                true => fast_or_exact(|| simd!(avx, avx2::node_momentum::<S, true>(this, a), this.node_momentum::<Fast, true>(a)), || this.node_momentum::<Exact, true>(a)),
+            .map(|(a, &node)| {
+                let hint = &this.scratch.gather_hints[node as usize][HINT_MOMENTUM];
+                match this.is_split(node) {
+                    false => gather_hinted!(avx, avx, hint, this.node_momentum::<false>(a)),
+                    true => gather_hinted!(avx, false, hint, this.node_momentum::<true>(a)),
+                }
             })
             .collect_into_vec(&mut sums);
         let nodes = &mut self.nodes;
@@ -754,6 +825,8 @@ impl<S: Dimension> Simulation<S> {
     }
 
     /// Task 3 at one node: internal force −Σ V σ·G and external force Σ f S per field (eq. 28).
+    /// `has_ext` is false at a node no particle with an external force term touches
+    /// (`mark_loaded_nodes`): its external force is +0, as the sum of the terms gives.
     #[inline(always)]
     fn node_forces<K: SumKind, const CRACKS: bool>(&self, a: usize, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
         let (p, pairs) = (&self.particles, &self.pairs);
@@ -913,6 +986,36 @@ fn add_shared<L: crate::exact::Lanes, A: crate::exact::LaneSum<L>>(acc: &mut [A;
     acc[0].add_lanes(b);
 }
 
+/// Which node gather a hint of `Scratch::gather_hints` is for.
+const HINT_MASS: usize = 0;
+const HINT_FORCE: usize = 1;
+const HINT_MOMENTUM: usize = 2;
+/// Steps a node gather runs with [`Fast3`] after its fast sums failed, before it tries
+/// them again.
+const HINT_STEPS: u8 = 8;
+
+/// A node gather with a hint: the nodes whose fast sums fail in one step (the nodes on
+/// the mirror planes of a symmetric scene, where a sum cancels to zero or to round-off)
+/// nearly always fail in the next ones too, and then pay for two gathers, the fast one
+/// and the rerun. So after a failure the node's next [`HINT_STEPS`] gathers of that kind
+/// run with [`Fast3`] (three-level sums, which certify those sums) straight away, and
+/// then the fast sums are tried again. [`Exact`] follows whenever the sums in use cannot
+/// certify. Every path gives the correctly rounded sums, so the hint moves no bit; it is
+/// read and written only by the task gathering this node (one per node and step).
+#[inline(always)]
+fn hinted<T>(hint: &AtomicU8, fast: impl FnOnce() -> Option<T>, three: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
+    let steps = hint.load(Ordering::Relaxed);
+    if steps == 0 {
+        if let Some(v) = fast() {
+            return v;
+        }
+        hint.store(HINT_STEPS, Ordering::Relaxed);
+        return exact().expect("ExactSum always certifies its sums");
+    }
+    hint.store(steps - 1, Ordering::Relaxed);
+    three().or_else(exact).expect("ExactSum always certifies its sums")
+}
+
 /// The fast sums if they certify their results, else the gather again with [`Exact`]
 /// accumulators (`exact::Rerun`: exact sums for the lanes the fast sums cannot certify).
 /// Both give the correctly rounded sums, so the bits do not depend on which was used.
@@ -921,7 +1024,7 @@ fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Op
     fast().or_else(exact).expect("ExactSum always certifies its sums")
 }
 
-/// Copies of the fast (certified-sum) gathers and of the shape functions compiled with
+/// Copies of the gathers (fast and rerun, `K`) and of the shape functions compiled with
 /// AVX2 (see [`crate::simd`]): each is the baseline function inlined (`#[inline(always)]`)
 /// into a function with the `avx2` target feature, so the same IEEE operations run on
 /// wider registers and give the same bits.
@@ -930,28 +1033,28 @@ mod avx2 {
     use super::*;
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_mass<S: Dimension, const FIELDS: bool, const VOLUME: bool>(s: &Simulation<S>, a: usize) -> Option<NodeMass<S::Vector>> {
-        s.node_mass::<Fast, FIELDS, VOLUME>(a)
+    pub(super) fn node_mass<S: Dimension, K: SumKind, const FIELDS: bool, const VOLUME: bool>(s: &Simulation<S>, a: usize) -> Option<NodeMass<S::Vector>> {
+        s.node_mass::<K, FIELDS, VOLUME>(a)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_forces<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, a: usize, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
-        s.node_forces::<Fast, CRACKS>(a, has_ext, has_body)
+    pub(super) fn node_forces<S: Dimension, K: SumKind, const CRACKS: bool>(s: &Simulation<S>, a: usize, has_ext: bool, has_body: bool) -> Option<NodeForce<S::Vector>> {
+        s.node_forces::<K, CRACKS>(a, has_ext, has_body)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn node_momentum<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, a: usize) -> Option<[S::Vector; MAX_FIELDS]> {
-        s.node_momentum::<Fast, CRACKS>(a)
+    pub(super) fn node_momentum<S: Dimension, K: SumKind, const CRACKS: bool>(s: &Simulation<S>, a: usize) -> Option<[S::Vector; MAX_FIELDS]> {
+        s.node_momentum::<K, CRACKS>(a)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn velocity_gradient<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<S::Tensor> {
-        s.velocity_gradient::<Fast, CRACKS>(i)
+    pub(super) fn velocity_gradient<S: Dimension, K: SumKind, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<S::Tensor> {
+        s.velocity_gradient::<K, CRACKS>(i)
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) fn particle_increments<S: Dimension, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<(S::Vector, S::Vector)> {
-        s.particle_increments::<Fast, CRACKS>(i)
+    pub(super) fn particle_increments<S: Dimension, K: SumKind, const CRACKS: bool>(s: &Simulation<S>, i: usize) -> Option<(S::Vector, S::Vector)> {
+        s.particle_increments::<K, CRACKS>(i)
     }
 
     #[target_feature(enable = "avx2")]
@@ -1029,10 +1132,15 @@ pub struct Scratch<S: Space> {
     pub chunk_nodes: Vec<Vec<u32>>,
     /// CSR build: per grid node, touched this step (false again once the active list is built).
     pub marks: Vec<AtomicBool>,
+    /// Per grid node, per node gather (mass, forces, momentum): the steps it still runs
+    /// with three-level sums after its fast sums failed (see `hinted`).
+    pub gather_hints: Vec<[AtomicU8; 3]>,
     /// CSR build: the pair slots, written by the chunks in parallel.
     pub slots: Vec<AtomicU32>,
     /// Particles with a load or a body force this step, ascending.
     pub forced: Vec<u32>,
+    /// Task 3: per active node, whether a particle with an external force term touches it.
+    pub loaded_nodes: Vec<bool>,
     /// Task 1 with cracks (2D): each crack's segment index, the crack each split pair
     /// crossed, and per particle whether any of its pairs is split.
     pub crack_index: Vec<crate::crack::geometry::SegmentIndex>,
@@ -1074,8 +1182,10 @@ impl<S: Space> Default for Scratch<S> {
             chunk_counts: Vec::new(),
             chunk_nodes: Vec::new(),
             marks: Vec::new(),
+            gather_hints: Vec::new(),
             slots: Vec::new(),
             forced: Vec::new(),
+            loaded_nodes: Vec::new(),
             crack_index: Vec::new(),
             crack_index3: Vec::new(),
             crack_node_on3: Vec::new(),
