@@ -777,6 +777,32 @@ impl<S: Dimension> Simulation<S> {
         self.scratch.split.get(i).copied().unwrap_or(true)
     }
 
+    /// Give field 0 to every pair of the active node `a` (position in `nodes.active`) whose
+    /// field is in `join` (bit f for field f), and gather the node's Task 1 sums again
+    /// ([`Self::node_mass`], the sums of a split node): the node then holds exactly what it
+    /// would have held had the crossing test given those pairs field 0, and the later tasks,
+    /// which read `pairs.field`, treat those particles as field 0 there. The node's crack
+    /// (`nodes.crack`) is kept. For a node one crack splits three ways
+    /// ([`crate::crack::three_d`]'s `finish_crack_nodes`).
+    pub(crate) fn join_fields_into_zero(&mut self, a: usize, join: u8) {
+        let (start, end) = (self.pairs.start[a] as usize, self.pairs.start[a + 1] as usize);
+        for k in start..end {
+            let item = self.pairs.items[k] as usize;
+            if join & (1 << self.pairs.field[item]) != 0 {
+                self.pairs.field[item] = 0;
+            }
+        }
+        let g = fast_or_exact(|| self.node_mass::<Fast, true, true>(a), || self.node_mass::<Exact, true, true>(a));
+        let i = self.nodes.active[a] as usize;
+        let nodes = &mut self.nodes;
+        nodes.present[i] = g.present;
+        for (f, fa) in nodes.fields.iter_mut().enumerate() {
+            fa.mass[i] = g.mass[f];
+            fa.mom[i] = g.mom[f];
+        }
+        nodes.volume[i] = g.volume;
+    }
+
     /// Task 1 at one node: mass and momentum per field (eq. 26), and the nodal area per
     /// unit thickness (eq. 27; the volume in 3D) for contact.
     ///

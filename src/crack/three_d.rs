@@ -727,21 +727,21 @@ fn side_of(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> i8
     side_of_plane(&a, &b, &c, x)
 }
 
-/// After the Task 1 gather: every node has at most two fields; a node with two fields gets
-/// the crack normal from above to below: the unit normal of the crack triangle nearest the
-/// node (the 2D rule, nearest segment, with triangles; Nairn 2003 §2.2 saves the normal of
-/// the crossed segment). Exact for planar cracks; on a curved crack the nearest triangle
+/// After the Task 1 gather: every node has at most two fields (a node that one crack
+/// splits three ways is first reduced to two, [`join_own_side`]); a node with two fields
+/// gets the crack normal from above to below: the unit normal of the crack triangle nearest
+/// the node (the 2D rule, nearest segment, with triangles; Nairn 2003 §2.2 saves the normal
+/// of the crossed segment). Exact for planar cracks; on a curved crack the nearest triangle
 /// is the best local plane the mesh offers, and unlike an average over crossed triangles
 /// it does not depend on which particles happen to surround the node.
 fn finish_crack_nodes(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     let reach = 2.0 * sim.grid.h.max();
     for a in 0..sim.nodes.active.len() {
         let i = sim.nodes.active[a] as usize;
-        let present = sim.nodes.present[i];
-        if present == 0b111 {
-            let c = sim.nodes.crack[i] as usize;
-            return Err(too_many_fields(sim, i, vec![c]));
+        if sim.nodes.present[i] == 0b111 {
+            join_own_side(sim, a, i)?;
         }
+        let present = sim.nodes.present[i];
         if present.count_ones() == 2 {
             let c = sim.nodes.crack[i] as usize;
             let crack = &sim.cracks[c];
@@ -750,6 +750,51 @@ fn finish_crack_nodes(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
             sim.nodes.normal[i] = -crack.surface.normal(t).normalize();
         }
     }
+    Ok(())
+}
+
+/// A node that one crack splits three ways: some of its particles cross the crack to it
+/// from above (field 1), some from below (field 2), and the rest reach it uncrossed (field
+/// 0). Nairn 2003 allows two fields, "one for particles on one side of the crack and one
+/// for particles on the other side", and says a third arises only "in unusual conditions";
+/// it happens at a node just ahead of a warped front (issue 17, the corner-crack rod at
+/// step 94): each part of the front grew level at its own height, so the surface's height
+/// varies along the front by more than the node's distance from it within the node's
+/// reach, and the node lies below the surface's extension on one side of it and above on
+/// the other; a particle above the surface on the first side and one below it on the second
+/// both see the surface between themselves and the node.
+///
+/// Rule: the node's own side is its exact side of the plane of the crack triangle nearest
+/// it ([`TriangleIndex::nearest`], as for its normal); the particles that crossed to it from
+/// that side are on the node's side of the crack where the node is, so they join field 0
+/// (the node's own material); the particles from the other side keep their field. A node
+/// in that plane is on neither side and joins both into field 0 (a node in the plane of a
+/// flat crack beyond its front is crossed by no line). This is CRAMP's rule for a single
+/// crack as NairnMPM implements it — a crossing from the side opposite the node's crossing
+/// field goes to field 0 — with the side chosen by the geometry instead of by which
+/// particle came first, so the result does not depend on particle order or threads. Only
+/// these nodes change (a node with at most two fields is as before), and the checked-mode
+/// crossing test reads particles' sides from the surface, not from the fields, so it still
+/// catches a particle crossing the crack.
+fn join_own_side(sim: &mut Simulation<D3>, a: usize, i: usize) -> Result<(), CheckError> {
+    let c = sim.nodes.crack[i] as usize;
+    let x = sim.grid.node_pos(i);
+    // A crossed triangle meets a segment from the node to one of its particles, so it lies
+    // within |h + l_p| ≤ (3/2)√3 h < 3 h of the node when l_p ≤ h/2 (a particle or more per
+    // cell); a node with none within 3 h keeps the error.
+    let reach = 3.0 * sim.grid.h.max();
+    let Some((t, _)) = sim.scratch.crack_index3.get(c).and_then(|index| index.nearest(&x, reach)) else {
+        return Err(too_many_fields(sim, i, vec![c]));
+    };
+    let surface = &sim.cracks[c].surface;
+    let [p, q, r] = surface.triangles[t].map(|k| surface.vertices[k as usize]);
+    let join = match side_of_plane(&p, &q, &r, &x) {
+        // Node above: the particles above the crack (field 1) are on its side.
+        1 => 0b010,
+        -1 => 0b100,
+        _ => 0b110,
+    };
+    sim.join_fields_into_zero(a, join);
     Ok(())
 }
 
