@@ -3,6 +3,9 @@
 //! Instructions per particle-step are the difference of two runs with different STEPS
 //! divided by (difference of steps × particles): setup and the first steps cancel.
 
+#[path = "common/state_hash.rs"]
+mod state_hash;
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     anyhow::ensure!(args.len() >= 3, "usage: steps SCENE STEPS [THREADS]");
@@ -20,12 +23,8 @@ fn main() -> anyhow::Result<()> {
     let wall = t.elapsed().as_secs_f64();
     let p = sim.total_momentum();
     // FNV-1a over the bits of the particle state and the cracks: equal hashes, equal bits.
-    let mut hash = 0xcbf29ce484222325u64;
-    let mut eat = |x: f64| {
-        for b in x.to_bits().to_le_bytes() {
-            hash = (hash ^ b as u64).wrapping_mul(0x100000001b3);
-        }
-    };
+    let mut fnv = state_hash::Fnv::new();
+    let mut eat = |x: f64| fnv.eat(x);
     let q = &sim.particles;
     for i in 0..q.len() {
         for x in [q.x[i].x, q.x[i].y, q.v[i].x, q.v[i].y, q.stress[i].xx, q.stress[i].yy, q.stress[i].xy, q.stress[i].zz, q.strain[i].xx, q.strain[i].yy, q.strain[i].zz, q.strain[i].xy] {
@@ -41,7 +40,7 @@ fn main() -> anyhow::Result<()> {
             eat(v.y);
         }
     }
-    println!("state hash {hash:016x}");
+    println!("state hash {:016x}", fnv.0);
     println!(
         "{} particles, {} steps, {:.3} s, {:.3} M particle-steps/s; t = {}, P = ({:e}, {:e}), E = {:?}",
         sim.particles.len(),

@@ -47,13 +47,13 @@ pub const DOMAIN_RADII: [f64; 3] = [3.0, 4.0, 5.0];
 /// layer each side — the profile alternated ±50–170 % node to node; with L = 2 mm the
 /// mid-cell nodes z = 1, 11 were +26 %; with L = 4 mm +10 % — the hat's kink at a mid-cell
 /// node picks up the particles' sawtooth within a cell, crate::fracture::front3.) The 1 mm
-/// FEA's J(z) is averaged with the same ψ for the comparison ([`hat_average`]).
+/// FEA's J(z) is averaged with the same ψ for the comparison ([`psi_average`]).
 pub const DOMAIN_ALONG: f64 = 4.0;
 
 /// The weighted average ∫ψ(s)J(z + s) ds / ∫ψ ds of a profile given at every 1 mm (the
 /// 1 mm FEA's front nodes), ψ = cos²(πs/2L), L = DOMAIN_ALONG, cut at the faces, by the
 /// trapezoidal rule on the nodes: the MPM domain integral's average of the same G(z).
-pub fn hat_average(pts: &[(f64, f64)], z: f64) -> Option<f64> {
+pub fn psi_average(pts: &[(f64, f64)], z: f64) -> Option<f64> {
     let (mut num, mut den) = (0.0, 0.0);
     let (lo, hi) = (pts.first()?.0, pts.last()?.0);
     for &(zi, j) in pts {
@@ -107,7 +107,7 @@ pub struct DcbRun {
     pub front: Vec<FrontResult>,
     pub front_wide: Vec<FrontResult>,
     /// The MPM front by the equivalent domain integral, q's outer radius DOMAIN_RADII[k]
-    /// cells (ramp and hat one cell).
+    /// cells (ramp one cell, ψ of DOMAIN_ALONG).
     pub front_domain: Vec<Vec<FrontResult>>,
     /// Mid-width J₁ SETTLE_WINDOW before the end.
     pub j_mid_before: f64,
@@ -219,7 +219,7 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let dom = &r.front_domain[1];
     let dom_at = |z: f64| near(dom, z).map(|f| f.j1);
     let fine_pts: Vec<(f64, f64)> = r.fea_fine.front.iter().map(|f| (f.0, f.2)).collect();
-    let fine_at = |z: f64| hat_average(&fine_pts, z);
+    let fine_at = |z: f64| psi_average(&fine_pts, z);
     let dom_mid = dom_at(0.5 * DCB3_B).context("no domain J at mid-width")?;
     let fine_mid = fine_at(0.5 * DCB3_B).context("no 1 mm FEA J at mid-width")?;
     out.measure("domain_mid_width_fea", &format!("domain integral, q to {} cells, vs the 1 mm FEA at x = 49", DOMAIN_RADII[1]), dom_mid, fine_mid);
