@@ -64,6 +64,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("front_sent_2d.toml", include_str!("../../verification/front_sent_2d.toml")),
     ("front_sent_3d.toml", include_str!("../../verification/front_sent_3d.toml")),
     ("front_sh_3d.toml", include_str!("../../verification/front_sh_3d.toml")),
+    ("front_sh_ramp_3d.toml", include_str!("../../verification/front_sh_ramp_3d.toml")),
     ("growth_strip.toml", include_str!("../../verification/growth_strip.toml")),
     ("hanging_sent.toml", include_str!("../../verification/hanging_sent.toml")),
     ("mode_ii_kink.toml", include_str!("../../verification/mode_ii_kink.toml")),
