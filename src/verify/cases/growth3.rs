@@ -409,3 +409,108 @@ pub fn run_ellipse(_variant: Variant) -> anyhow::Result<CaseOutput> {
     );
     Ok(out)
 }
+
+/// Width of the 3D DCB of `dcb_growth_3d.toml` (mm; free side faces) and its load line x.
+pub const DCB3_WIDTH: f64 = 4.0;
+pub const DCB3_LOAD_LINE: f64 = 99.5;
+
+/// Corrected beam theory for the 3D DCB with the 3D front's plane-strain K:
+/// G = (3/16) δ² E h³/(a + χh)⁴ = G_c = K_Ic²(1 − ν²)/E at
+/// a + χh = (3E²h³δ²/(16 K_Ic²(1 − ν²)))^{1/4} (the 2D case's
+/// [`crate::verify::cases::growth::dcb_effective_length`] with plane-strain G_c).
+pub fn dcb3_effective_length(delta: f64) -> f64 {
+    use crate::verify::cases::fracture::{ARM, E_BEAM};
+    use crate::verify::cases::growth::KIC_DCB;
+    let nu: f64 = 0.33;
+    (3.0 * E_BEAM * E_BEAM * ARM.powi(3) * delta * delta / (16.0 * KIC_DCB * KIC_DCB * (1.0 - nu * nu))).powf(0.25)
+}
+
+/// What the 3D DCB growth run measured.
+#[derive(Clone, Debug, Default)]
+pub struct Dcb3Growth {
+    /// Starts from rest of the mid-width front node: (time ms, a from the load line, beam-theory a).
+    pub restarts: Vec<(f64, f64, f64)>,
+    /// Largest spread of the front nodes' x inside the body at a check, in increments.
+    pub front_spread: f64,
+    /// Mid-width node's crack length after each check: (time, a).
+    pub history: Vec<(f64, f64)>,
+    pub increments: usize,
+    pub seconds: f64,
+    pub particles: usize,
+    pub steps: u64,
+}
+
+/// Run `dcb_growth_3d.toml` (with overrides; unchecked, as the 2D growth cases).
+pub fn dcb3_growth(overrides: &[(&str, &str)]) -> anyhow::Result<Dcb3Growth> {
+    use crate::verify::cases::growth::V_DCB;
+    let mut f = SceneFile::new("dcb_growth_3d.toml");
+    for (k, v) in overrides {
+        f = f.set(k, v);
+    }
+    let mut s = f.load3()?;
+    s.solver.checked = false;
+    let t = Instant::now();
+    let mut sim = s.build()?;
+    sim.run_until(s.solver.end_time, |_| {})?;
+    let seconds = t.elapsed().as_secs_f64();
+    let g = sim.growth.as_ref().ok_or_else(|| anyhow::anyhow!("the DCB does not grow"))?;
+    let mid = g.records.iter().min_by(|p, q| (p.x.z - 0.5 * DCB3_WIDTH).abs().total_cmp(&(q.x.z - 0.5 * DCB3_WIDTH).abs())).map(|r| r.label).ok_or_else(|| anyhow::anyhow!("no front records"))?;
+    let mut out = Dcb3Growth { seconds, particles: sim.particles.len(), steps: sim.step_count, ..Default::default() };
+    let mut last: Option<f64> = None;
+    let mut by_step: BTreeMap<u64, Vec<&NodeRecord>> = BTreeMap::new();
+    for r in &g.records {
+        by_step.entry(r.step).or_default().push(r);
+        if r.label != mid {
+            continue;
+        }
+        out.history.push((r.time, DCB3_LOAD_LINE - r.x.x));
+        if r.grew {
+            if last.is_none_or(|l| r.time - l >= 1.0) {
+                out.restarts.push((r.time, DCB3_LOAD_LINE - r.x.x, dcb3_effective_length(2.0 * V_DCB * r.time) - crate::verify::cases::fracture::CHI * crate::verify::cases::fracture::ARM));
+            }
+            last = Some(r.time);
+        }
+    }
+    let da = 0.5 * s.grid.cell[0];
+    for rows in by_step.values() {
+        let inside: Vec<f64> = rows.iter().filter(|r| (0.0..=DCB3_WIDTH).contains(&r.x.z)).map(|r| r.x.x).collect();
+        let (lo, hi) = inside.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
+        if hi >= lo {
+            out.front_spread = out.front_spread.max((hi - lo) / da);
+        }
+    }
+    out.increments = g.records.iter().filter(|r| r.grew).count();
+    Ok(out)
+}
+
+/// Case `dcb_growth_3d` (full suite only; issue 17 verification item 4).
+pub fn run_dcb3(_variant: Variant) -> anyhow::Result<CaseOutput> {
+    use crate::verify::cases::fracture::{ARM, CHI};
+    let d = dcb3_growth(&[])?;
+    let mut out = CaseOutput::default();
+    out.measure("restarts", "h = 2 mm, B = 4 mm", d.restarts.len() as f64, 0.0);
+    for &(t, a, a_ref) in &d.restarts {
+        out.measure("restart_length", &format!("h = 2 mm, mid-width node, t = {t:.2} ms"), a + CHI * ARM, a_ref + CHI * ARM);
+    }
+    out.measure("front_straight", "h = 2 mm, B = 4 mm", d.front_spread, 0.0);
+    out.note(format!(
+        "Mid-width front node: starts from rest (t ms, a, beam theory with plane-strain G_c) {}; largest spread of the front's x inside \
+         the body at a check {:.3} increments; {} node moves. Run {} particles × {} steps, {:.1} s (unchecked).",
+        d.restarts.iter().map(|(t, a, b)| format!("({t:.2}, {a:.2}, {b:.2})")).collect::<Vec<_>>().join(", "),
+        d.front_spread,
+        d.increments,
+        d.particles,
+        d.steps,
+        d.seconds
+    ));
+    let a0 = DCB3_LOAD_LINE - 50.0;
+    let theory: Vec<(f64, f64)> = (0..=200).map(|k| 0.1 * k as f64).map(|t| (t, (dcb3_effective_length(2.0 * crate::verify::cases::growth::V_DCB * t) - CHI * ARM).max(a0))).collect();
+    out.figure(
+        "dcb_growth_3d.png",
+        "Displacement-controlled DCB, 4 mm wide with free faces (3D, h = 2 mm): crack length of the mid-width front node from the load line \
+         versus time, against corrected beam theory with the plane-strain G_c of the 3D front.",
+        PlotSpec::new("3D DCB under opening control: crack length", "time (ms)", "crack length a (mm)"),
+        Plot::Lines(vec![Series::line("MPM, mid-width front node", d.history.clone()), Series::reference("corrected beam theory, G = G_c", theory)]),
+    );
+    Ok(out)
+}
