@@ -325,6 +325,12 @@ pub fn newell_normal(points: &[Vector3]) -> Vector3 {
     n
 }
 
+/// The first lattice spacing [`planar_polygon`] tries, as a fraction of the largest edge
+/// length: sides longer than it are divided. [`ellipse_boundary`] places its points at most
+/// this far apart, so that no side of a curved boundary is divided (a point put on a chord
+/// would lie inside the curve).
+pub const FIRST_SPACING: f64 = 0.7;
+
 /// Mesh a planar polygon (points in order; its normal, hence "above", by the right-hand
 /// rule) with every edge at most `max_edge` long. Errors: fewer than three points, points
 /// off the polygon's plane, a self-intersecting boundary, a non-positive `max_edge`.
@@ -363,7 +369,7 @@ pub fn planar_polygon(points: &[Vector3], max_edge: f64) -> Result<TriangleSurfa
     // A regular triangular lattice of spacing s inside, the sides divided evenly at most s
     // apart, joined by a constrained Delaunay triangulation: interior edges s, edges at
     // the boundary about s to 1.2 s; s shrinks until every edge is at most `max_edge`.
-    let mut spacing = 0.7 * max_edge;
+    let mut spacing = FIRST_SPACING * max_edge;
     for _ in 0..12 {
         let (verts, tris) = lattice_triangulation(&plane, spacing)?;
         let surface = TriangleSurface::new(verts.iter().map(|p| basis.to_space(p[0], p[1])).collect(), tris)?;
@@ -535,9 +541,17 @@ pub fn ellipse_boundary(c: Vector3, n: Vector3, axis: Vector3, a: f64, b: f64, m
     let n = n.normalize();
     let u = (axis - n * axis.dot(&n)).try_normalize(1e-12).ok_or("the axis must not be parallel to the normal")?;
     let v = n.cross(&u);
-    // A chord of angle 2π/m is at most max(a, b)·2π/m. A multiple of 4, so the boundary
-    // has a vertex on each semi-axis and is symmetric about both.
-    let m = ((2.0 * std::f64::consts::PI * a.max(b) / max_edge).ceil() as usize).max(12).next_multiple_of(4);
+    // A chord of angle 2π/m is at most 2 max(a, b) sin(π/m). A multiple of 4, so the boundary
+    // has a vertex on each semi-axis and is symmetric about both; then multiplied until every
+    // chord is at most the first lattice spacing of planar_polygon, which therefore divides
+    // no side: every point of the boundary, hence every front node of a disc or an ellipse,
+    // lies on the curve. (Before, planar_polygon halved each side of the max_edge-gon and
+    // every other front node sat a sagitta, a(1 − cos(π/m)), inside it: 0.012 mm on the
+    // a = 10 mm penny of front_growth_penny.)
+    let m0 = ((2.0 * std::f64::consts::PI * a.max(b) / max_edge).ceil() as usize).max(12).next_multiple_of(4);
+    let chord = |m: usize| 2.0 * a.max(b) * (std::f64::consts::PI / m as f64).sin();
+    let k = (1..).find(|&k| chord(m0 * k) <= FIRST_SPACING * max_edge * (1.0 - 1e-9)).expect("a finite multiple");
+    let m = m0 * k;
     Ok((0..m)
         .map(|k| {
             let th = 2.0 * std::f64::consts::PI * k as f64 / m as f64;
@@ -629,6 +643,22 @@ mod tests {
         let qa: f64 = (0..s.triangles.len()).map(|t| 0.5 * s.normal(t).norm()).sum();
         assert!((qa - area / 4.0).abs() < 1e-6 * area);
         assert!(s.vertices.iter().all(|v| v.x >= 0.0 && v.y >= 0.0 && v.z == 0.0));
+    }
+
+    #[test]
+    fn disc_front_nodes_lie_on_the_circle() {
+        // Whole disc and a clipped quarter: every vertex near the rim is on the circle.
+        for (a, e) in [(10.0, 1.0), (5.0, 0.5), (16.0, 2.0 * 0.7071)] {
+            let bnd = ellipse_boundary(Vector3::zeros(), Vector3::z(), Vector3::x(), a, a, e).unwrap();
+            for poly in [bnd.clone(), clip_to_box(&bnd, Vector3::new(0.0, 0.0, -1.0), Vector3::new(2.0 * a, 2.0 * a, 1.0))] {
+                let s = planar_polygon(&poly, e).unwrap();
+                let rim: Vec<f64> = s.vertices.iter().map(|v| v.x.hypot(v.y)).filter(|&r| r > a - 0.3 * e).collect();
+                assert!(rim.len() >= 8);
+                for r in rim {
+                    assert!((r - a).abs() <= 1e-12 * a, "a vertex at r = {r} on the rim of a disc of radius {a}");
+                }
+            }
+        }
     }
 
     #[test]
