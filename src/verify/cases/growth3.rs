@@ -21,12 +21,16 @@
 //! * `front_growth_penny` (full suite; issue 17 verification item 1): the penny of
 //!   `front_j_penny` (a/h = 5) with K_Ic = 3 MPa√mm and max_speed 40 mm/ms. Measured:
 //!   planar to the bit, 349 node moves from 0.2215 ms to the cylinder's surface; the radius
-//!   spread while the whole front grows is 1.0148 increments against the issue's 1 (fails).
+//!   spread while the whole front grows is 1.0028 increments against the issue's 1 (fails).
 //!   It was 1.16 until the growth frame removed the asynchronous one-increment staircase
-//!   (growth3 module doc, item 3); the residual is 0.012 mm of the disc mesh (every other
-//!   initial front node a sagitta inside the circle) and 0.003 mm of the front nodes'
-//!   drift with the material over one move period (cases.toml). 12,640 particles × 696
-//!   steps, 61–85 s on 2 shared cores.
+//!   (growth3 module doc, item 3), then 1.0148 until the disc mesh put every front node on
+//!   the circle (it had every other one a sagitta, 0.012 mm, inside); the residual is the
+//!   front nodes' drift with the material over one move period, 0.003 mm (cases.toml).
+//!   12,640 particles × 696 steps, 58–85 s on 2 shared cores.
+//! * `front_growth_ellipse` (full; item 5): an elliptical crack b/a = 0.625 starts at the
+//!   minor-axis ends and its aspect ratio rises (Irwin's K; cases.toml).
+//! * `dcb_growth_3d` (full; item 4): the DCB of `dcb_growth`, 4 mm wide with free faces,
+//!   restarts against corrected beam theory with the 3D front's plane-strain G_c.
 
 use crate::fracture::growth3::NodeRecord;
 use crate::report::plot::{PlotSpec, Series};
