@@ -245,6 +245,7 @@ fn bad_fracture_tables_and_unknown_detection_are_refused_in_3d() {
     expect_invalid(&fr("method = \"domain\", radius = 2.0, ramp = 3.0"), None, "cracks[0].fracture.ramp", &["radius"]);
     expect_invalid(&fr("method = \"domain\", along = 0.0"), None, "cracks[0].fracture.along", &[]);
     expect_invalid(&fr("along = 2.0"), None, "cracks[0].fracture.method", &["domain"]);
+    expect_invalid(&fr("ramp = 1.0"), None, "cracks[0].fracture.method", &["domain"]);
     expect_message(&fr("method = \"ring\""), &["method"]);
     expect_invalid(&fr("nodes = { box = { min = [0.0, 0.0, 0.0], max = [1.0, -1.0, 1.0] } }"), None, "cracks[0].fracture.nodes.box", &["exceeds"]);
     // GOOD_CRACK reaches past the body on every side: it has no front in the material.
