@@ -194,6 +194,23 @@ pub fn run_slab(_variant: Variant) -> anyhow::Result<CaseOutput> {
     Ok(out)
 }
 
+/// Load a 3D verification scene with overrides, build it and run it to its end time
+/// (unchecked if asked): the scene, the finished simulation and the wall time in seconds.
+fn run_scene3(file: &str, overrides: &[(&str, &str)], unchecked: bool) -> anyhow::Result<(crate::scene3d::Scene3, crate::simulation::Simulation<crate::dim::D3>, f64)> {
+    let mut f = SceneFile::new(file);
+    for (k, v) in overrides {
+        f = f.set(k, v);
+    }
+    let mut s = f.load3()?;
+    if unchecked {
+        s.solver.checked = false;
+    }
+    let t = Instant::now();
+    let mut sim = s.build()?;
+    sim.run_until(s.solver.end_time, |_| {})?;
+    Ok((s, sim, t.elapsed().as_secs_f64()))
+}
+
 /// What the growing penny measured.
 #[derive(Clone, Debug, Default)]
 pub struct PennyGrowth {
@@ -218,15 +235,7 @@ pub struct PennyGrowth {
 
 /// Run `front_penny_growth_3d.toml` (with overrides).
 pub fn penny_growth(overrides: &[(&str, &str)]) -> anyhow::Result<PennyGrowth> {
-    let mut f = SceneFile::new("front_penny_growth_3d.toml");
-    for (k, v) in overrides {
-        f = f.set(k, v);
-    }
-    let s = f.load3()?;
-    let t = Instant::now();
-    let mut sim = s.build()?;
-    sim.run_until(s.solver.end_time, |_| {})?;
-    let seconds = t.elapsed().as_secs_f64();
+    let (_, sim, seconds) = run_scene3("front_penny_growth_3d.toml", overrides, false)?;
     let g = sim.growth.as_ref().ok_or_else(|| anyhow::anyhow!("the penny does not grow"))?;
     let crack = &sim.cracks[0];
     let z_max = crack.surface.vertices.iter().map(|v| v.z.abs()).fold(0.0, f64::max);
@@ -327,15 +336,7 @@ pub struct EllipseGrowth {
 /// Run `front_ellipse_growth_3d.toml` (with overrides).
 pub fn ellipse_growth(overrides: &[(&str, &str)]) -> anyhow::Result<EllipseGrowth> {
     let (a, b) = (ELLIPSE_A, ELLIPSE_B);
-    let mut f = SceneFile::new("front_ellipse_growth_3d.toml");
-    for (k, v) in overrides {
-        f = f.set(k, v);
-    }
-    let s = f.load3()?;
-    let t = Instant::now();
-    let mut sim = s.build()?;
-    sim.run_until(s.solver.end_time, |_| {})?;
-    let seconds = t.elapsed().as_secs_f64();
+    let (_, sim, seconds) = run_scene3("front_ellipse_growth_3d.toml", overrides, false)?;
     let g = sim.growth.as_ref().ok_or_else(|| anyhow::anyhow!("the ellipse does not grow"))?;
     let mut by_step: BTreeMap<u64, Vec<&NodeRecord>> = BTreeMap::new();
     for r in &g.records {
@@ -447,16 +448,7 @@ pub struct Dcb3Growth {
 /// Run `dcb_growth_3d.toml` (with overrides; unchecked, as the 2D growth cases).
 pub fn dcb3_growth(overrides: &[(&str, &str)]) -> anyhow::Result<Dcb3Growth> {
     use crate::verify::cases::growth::V_DCB;
-    let mut f = SceneFile::new("dcb_growth_3d.toml");
-    for (k, v) in overrides {
-        f = f.set(k, v);
-    }
-    let mut s = f.load3()?;
-    s.solver.checked = false;
-    let t = Instant::now();
-    let mut sim = s.build()?;
-    sim.run_until(s.solver.end_time, |_| {})?;
-    let seconds = t.elapsed().as_secs_f64();
+    let (s, sim, seconds) = run_scene3("dcb_growth_3d.toml", overrides, true)?;
     let g = sim.growth.as_ref().ok_or_else(|| anyhow::anyhow!("the DCB does not grow"))?;
     let mid = g.records.iter().min_by(|p, q| (p.x.z - 0.5 * DCB3_WIDTH).abs().total_cmp(&(q.x.z - 0.5 * DCB3_WIDTH).abs())).map(|r| r.label).ok_or_else(|| anyhow::anyhow!("no front records"))?;
     let mut out = Dcb3Growth { seconds, particles: sim.particles.len(), steps: sim.step_count, ..Default::default() };
