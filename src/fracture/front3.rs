@@ -424,6 +424,30 @@ pub fn opening_at(crack: &Crack3, q: &Vector3) -> Option<Vector3> {
     Some((0..3).fold(Vector3::zeros(), |acc, k| acc + crack.opening(tri[k] as usize) * l[k]))
 }
 
+/// The crack-face jump at the point of the crack surface nearest to q (Euclidean; ties to
+/// the lower triangle index): the fallback of [`opening_at`] when q is beyond the surface's
+/// edge by more than its ¼ allowance. This happens behind a front node on a free face that
+/// has drifted with the material a hair outside the body while its frame tilts with the
+/// front (dcb_growth_3d: a face node at z = −0.014 mm, its point one cell behind 0.3 mm
+/// beyond the surface's edge; its K was NaN and it never grew again). The node itself is
+/// on the surface, so the point read is at most `cod_behind` from q: on a free face, the
+/// surface's edge behind the node. None only for an empty surface.
+pub fn opening_nearest(crack: &Crack3, q: &Vector3) -> Option<Vector3> {
+    let s = &crack.surface;
+    let mut best: Option<(f64, usize, [f64; 3])> = None;
+    for (t, tri) in s.triangles.iter().enumerate() {
+        let [a, b, c] = tri.map(|i| s.vertices[i as usize]);
+        let (p, l) = crate::crack::crossing3::closest_on_triangle(q, &a, &b, &c);
+        let d = (p - q).norm_squared();
+        if best.is_none_or(|(bd, _, _)| d < bd) {
+            best = Some((d, t, l));
+        }
+    }
+    let (_, t, l) = best?;
+    let tri = s.triangles[t];
+    Some((0..3).fold(Vector3::zeros(), |acc, k| acc + crack.opening(tri[k] as usize) * l[k]))
+}
+
 /// Eq. 11 of 004 in 3D at one node and field: the mass-weighted particle averages.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NodalValues3 {
@@ -709,7 +733,8 @@ impl Simulation<D3> {
                 j1 += jv.dot(&frame.e1);
                 j2 += jv.dot(&frame.e2);
             }
-            let delta = opening_at(crack, &(x0 - frame.e1 * req.cod_behind)).map_or([nan; 3], |d| [d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3)]);
+            let q = x0 - frame.e1 * req.cod_behind;
+            let delta = opening_at(crack, &q).or_else(|| opening_nearest(crack, &q)).map_or([nan; 3], |d| [d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3)]);
             let k = match self.material_near3(&x0) {
                 Some(m) if delta.iter().all(|d| d.is_finite()) => partition_k3(j1, delta, m.e, m.nu),
                 _ => [nan; 3],
