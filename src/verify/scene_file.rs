@@ -57,6 +57,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("fea_penny_3d.toml", include_str!("../../verification/fea_penny_3d.toml")),
     ("front_penny_3d.toml", include_str!("../../verification/front_penny_3d.toml")),
     ("front_inclined_3d.toml", include_str!("../../verification/front_inclined_3d.toml")),
+    ("front_inclined_aligned_3d.toml", include_str!("../../verification/front_inclined_aligned_3d.toml")),
     ("front_penny_growth_3d.toml", include_str!("../../verification/front_penny_growth_3d.toml")),
     ("corner_crack_rod_3d.toml", include_str!("../../verification/corner_crack_rod_3d.toml")),
     ("tube_crack_3d.toml", include_str!("../../verification/tube_crack_3d.toml")),

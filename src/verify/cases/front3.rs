@@ -442,13 +442,39 @@ pub fn inclined_scene(a_cells: f64) -> SceneFile {
         .set("loads.1.particles.box", format!("{{ min = [{:?}, -1.0, {:?}], max = [{:?}, {:?}, {:?}] }}", -r - 1.0, -hh, r + 1.0, r + 1.0, -hh + 0.5 * h))
 }
 
-/// The crack normal n, the projection s of the load axis on the crack plane (the direction
-/// the face on n's side slides, references §2) and t = n × s: θ = atan2(e_r·t, e_r·s).
-pub fn inclined_axes() -> (Vector3, Vector3, Vector3) {
-    let g = INCL_GAMMA_DEG.to_radians();
-    let n = Vector3::new(g.sin(), 0.0, g.cos());
-    let s = Vector3::new(-g.cos(), 0.0, g.sin());
-    (n, s, n.cross(&s))
+/// The geometry of an inclined-penny scene: the crack normal n, the direction s the face on
+/// n's side slides (the projection of the load axis on the crack plane, references §2), the
+/// crack centre, and σ over the top load's z stress F_z/(N h²/4) (1 when the load axis is z;
+/// 1/cos²γ = 2 when the load is turned by 45° from z and the crack normal is z).
+#[derive(Clone, Copy, Debug)]
+pub struct InclinedGeometry {
+    pub n: Vector3,
+    pub s: Vector3,
+    pub centre: Vector3,
+    pub sigma_per_top_stress: f64,
+}
+
+impl InclinedGeometry {
+    /// `front_inclined_3d.toml`: load along z, the crack normal tilted by γ about y (oblique
+    /// to the grid).
+    pub fn oblique() -> Self {
+        let g = INCL_GAMMA_DEG.to_radians();
+        InclinedGeometry { n: Vector3::new(g.sin(), 0.0, g.cos()), s: Vector3::new(-g.cos(), 0.0, g.sin()), centre: Vector3::new(0.0, 0.0, INCL_CENTER_Z), sigma_per_top_stress: 1.0 }
+    }
+
+    /// `front_inclined_aligned_3d.toml`: the crack on the grid plane z = 0, the load along
+    /// (sin γ, 0, cos γ).
+    pub fn aligned() -> Self {
+        let g = INCL_GAMMA_DEG.to_radians();
+        InclinedGeometry { n: Vector3::z(), s: Vector3::x(), centre: Vector3::zeros(), sigma_per_top_stress: 1.0 / (g.cos() * g.cos()) }
+    }
+
+    /// θ of a point on the front: atan2(e_r·t, e_r·s), t = n × s.
+    pub fn theta(&self, x: &Vector3) -> f64 {
+        let d = x - self.centre;
+        let r = d - self.n * d.dot(&self.n);
+        r.dot(&self.n.cross(&self.s)).atan2(r.dot(&self.s))
+    }
 }
 
 /// Kassir & Sih (1966) by superposition (3d-references.md §2): K_I, K_II, K_III at the front
@@ -499,10 +525,10 @@ pub struct InclinedRun {
     pub seconds_domain: f64,
 }
 
-/// Run the inclined penny at a/h = `a_cells`.
-pub fn inclined(a_cells: f64) -> anyhow::Result<InclinedRun> {
-    let s = inclined_scene(a_cells).load3()?;
-    let h = INCL_A / a_cells;
+/// Run an inclined penny scene (cubic cells).
+pub fn inclined(file: SceneFile, geom: InclinedGeometry) -> anyhow::Result<InclinedRun> {
+    let s = file.load3()?;
+    let h = s.grid.cell[0];
     let t = Instant::now();
     let mut sim = s.build()?;
     let own = s.front_requests(&sim.cracks)?.remove(0).context("the inclined penny asks for J")?;
@@ -531,17 +557,8 @@ pub fn inclined(a_cells: f64) -> anyhow::Result<InclinedRun> {
     let (e, nu) = (mat.e, mat.nu);
     let loaded = sim.particles.load.iter().filter(|&&l| l == 0).count();
     let force = s.loads[0].force.context("a force")?[2];
-    let sigma = force / (loaded as f64 * 0.25 * h * h);
-    let (n, sx, tx) = inclined_axes();
-    let centre = Vector3::new(0.0, 0.0, INCL_CENTER_Z);
-    let theta: Vec<f64> = front
-        .iter()
-        .map(|f| {
-            let d = f.x - centre;
-            let r = d - n * d.dot(&n);
-            r.dot(&tx).atan2(r.dot(&sx))
-        })
-        .collect();
+    let sigma = geom.sigma_per_top_stress * force / (loaded as f64 * 0.25 * h * h);
+    let theta: Vec<f64> = front.iter().map(|f| geom.theta(&f.x)).collect();
     let k_ref = theta.iter().map(|&th| kassir_sih(sigma, INCL_A, INCL_GAMMA_DEG.to_radians(), nu, th)).collect();
     let mut j_vs_radius = Vec::new();
     let mut per_radius = Vec::new();
@@ -603,11 +620,20 @@ fn inclined_summary(k: &[[f64; 3]], theta: &[f64], k_ref: &[[f64; 3]], amp_ref: 
     ([k1 / amp_ref[0], a2 / amp_ref[1], a3 / amp_ref[2]], worst)
 }
 
-/// Case `front_j_inclined` (full only: 200,960 particles).
+/// Case `front_j_inclined` (full only: 200,960 + 256,000 particles): the oblique scene
+/// (checks without suffix) and its grid-aligned control (checks `*_aligned`).
 pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
-    let a_cells = 5.0;
-    let r = inclined(a_cells)?;
     let mut out = CaseOutput::default();
+    let r = inclined(inclined_scene(5.0), InclinedGeometry::oblique())?;
+    report_inclined(&mut out, &r, "", "crack oblique to the grid (tilted about y), load along z");
+    let c = inclined(SceneFile::new("front_inclined_aligned_3d.toml"), InclinedGeometry::aligned())?;
+    report_inclined(&mut out, &c, "_aligned", "grid-aligned control: crack on the grid plane z = 0, load turned by 45°");
+    Ok(out)
+}
+
+/// The measurements, notes, data and figure of one inclined-penny run; check ids get `suffix`.
+fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &str) {
+    let a_cells = INCL_A / r.h;
     let gamma = INCL_GAMMA_DEG.to_radians();
     let amp = {
         let a = kassir_sih(r.sigma, INCL_A, gamma, r.nu, 0.0);
@@ -618,6 +644,7 @@ pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let nn = r.front.len() as f64;
     let g_ref_avg = r.k_ref.iter().map(g_of).sum::<f64>() / nn;
     let label = format!("a/h = {a_cells}");
+    out.note(format!("{what}:"));
     let kd: Vec<[f64; 3]> = r.front_domain.iter().map(|f| f.k).collect();
     let kc: Vec<[f64; 3]> = r.front.iter().map(|f| f.k).collect();
     let kown: Vec<[f64; 3]> = r.front_own.iter().map(|f| f.k).collect();
@@ -626,18 +653,18 @@ pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let (sc, wc) = inclined_summary(&kc, &r.theta, &r.k_ref, amp);
     let (s2, w2) = inclined_summary(&r.k_domain_cod2, &r.theta, &r.k_ref, amp);
     let (so, wo) = inclined_summary(&kown, &r.theta, &r.k_ref, amp);
-    out.measure("k1_domain", &label, sd[0], 1.0);
-    out.measure("k2_domain", &label, sd[1], 1.0);
-    out.measure("k3_domain", &label, sd[2], 1.0);
-    out.measure("k_nodes_domain", &label, wd.iter().copied().fold(0.0, f64::max), 0.0);
-    out.measure("k1_extrapolated", &label, se[0], 1.0);
-    out.measure("k2_extrapolated", &label, se[1], 1.0);
-    out.measure("k3_extrapolated", &label, se[2], 1.0);
-    out.measure("k_nodes_extrapolated", &label, we.iter().copied().fold(0.0, f64::max), 0.0);
+    out.measure(&format!("k1_domain{suffix}"), &label, sd[0], 1.0);
+    out.measure(&format!("k2_domain{suffix}"), &label, sd[1], 1.0);
+    out.measure(&format!("k3_domain{suffix}"), &label, sd[2], 1.0);
+    out.measure(&format!("k_nodes_domain{suffix}"), &label, wd.iter().copied().fold(0.0, f64::max), 0.0);
+    out.measure(&format!("k1_extrapolated{suffix}"), &label, se[0], 1.0);
+    out.measure(&format!("k2_extrapolated{suffix}"), &label, se[1], 1.0);
+    out.measure(&format!("k3_extrapolated{suffix}"), &label, se[2], 1.0);
+    out.measure(&format!("k_nodes_extrapolated{suffix}"), &label, we.iter().copied().fold(0.0, f64::max), 0.0);
     let jd_avg = r.front_domain.iter().map(|f| f.j1).sum::<f64>() / nn;
-    out.measure("j_vs_g", &label, jd_avg, g_ref_avg);
-    out.measure("kinetic", &label, r.kinetic_ratio, 0.0);
-    out.measure("settled", &format!("{label}, front-average K_I at 0.9 t_end vs t_end"), r.settled.abs(), 0.0);
+    out.measure(&format!("j_vs_g{suffix}"), &label, jd_avg, g_ref_avg);
+    out.measure(&format!("kinetic{suffix}"), &label, r.kinetic_ratio, 0.0);
+    out.measure(&format!("settled{suffix}"), &format!("{label}, front-average K_I at 0.9 t_end vs t_end"), r.settled.abs(), 0.0);
     let pct = |x: f64| 100.0 * (x - 1.0);
     let line = |name: &str, s: [f64; 3], w: [f64; 3]| {
         format!(
@@ -727,7 +754,7 @@ pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
             g_of(&k)
         ));
     }
-    out.data("front_j_inclined.csv", "Inclined penny: per front node θ, K by the domain J₁ and by the contour extrapolated to r → 0 (COD split), the Kassir & Sih reference, J₁ and G_ref.", csv);
+    out.data(&format!("front_j_inclined{suffix}.csv"), "Inclined penny: per front node θ, K by the domain J₁ and by the contour extrapolated to r → 0 (COD split), the Kassir & Sih reference, J₁ and G_ref.", csv);
     let unit = r.sigma * (PI * INCL_A).sqrt();
     let mut series = Vec::new();
     let names = ["K_I", "K_II", "K_III"];
@@ -736,16 +763,15 @@ pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
         series.push(Series::line(&format!("{} contour r → 0", names[m]), order.iter().map(|&i| (r.theta[i].to_degrees(), r.k0[i][m] / unit)).collect()).with_markers());
         series.push(Series::reference(
             &format!("{} Kassir & Sih", names[m]),
-            (0..=180).map(|d| -(d as f64)).map(|d| (d, kassir_sih(r.sigma, INCL_A, gamma, r.nu, d.to_radians())[m] / unit)).collect(),
+            (0..=180).map(|d| d as f64 * if r.theta.iter().sum::<f64>() < 0.0 { -1.0 } else { 1.0 }).map(|d| (d, kassir_sih(r.sigma, INCL_A, gamma, r.nu, d.to_radians())[m] / unit)).collect(),
         ));
     }
     out.figure(
-        "front_j_inclined_k.png",
-        "Inclined penny crack (γ = 45°, half model, a/h = 5): K_I, K_II, K_III over σ√(πa) at every front node against the front angle θ (from the \
+        &format!("front_j_inclined{suffix}_k.png"),
+        &format!("Inclined penny crack, {what} (γ = 45°, half model, a/h = 5): K_I, K_II, K_III over σ√(πa) at every front node against the front angle θ (from the \
          projection of the load axis, positive about the crack normal), by the domain J₁ and by the contour J₁ extrapolated to r → 0, both split by \
-         the opening one cell behind; lines: Kassir & Sih (infinite body).",
+         the opening one cell behind; lines: Kassir & Sih (infinite body)."),
         PlotSpec::new("Inclined penny crack: K along the front", "θ (degrees)", "K / (σ√(πa))"),
         Plot::Lines(series),
     );
-    Ok(out)
 }
