@@ -56,6 +56,8 @@ pub const FILES: &[(&str, &str)] = &[
     ("fea_extrusion_3d.toml", include_str!("../../verification/fea_extrusion_3d.toml")),
     ("fea_penny_3d.toml", include_str!("../../verification/fea_penny_3d.toml")),
     ("front_penny_3d.toml", include_str!("../../verification/front_penny_3d.toml")),
+    ("front_inclined_3d.toml", include_str!("../../verification/front_inclined_3d.toml")),
+    ("front_inclined_aligned_3d.toml", include_str!("../../verification/front_inclined_aligned_3d.toml")),
     ("front_penny_growth_3d.toml", include_str!("../../verification/front_penny_growth_3d.toml")),
     ("front_ellipse_growth_3d.toml", include_str!("../../verification/front_ellipse_growth_3d.toml")),
     ("dcb_growth_3d.toml", include_str!("../../verification/dcb_growth_3d.toml")),

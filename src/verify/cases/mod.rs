@@ -74,6 +74,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "cracks_2d_3d", run: cracks_3d::run_2d_3d },
     Case { name: "front_j_slab", run: front3::run_slab },
     Case { name: "front_j_penny", run: front3::run_penny },
+    Case { name: "front_j_inclined", run: front3::run_inclined },
     Case { name: "front_growth_slab", run: growth3::run_slab },
     Case { name: "front_growth_penny", run: growth3::run_penny },
     Case { name: "front_growth_ellipse", run: growth3::run_ellipse },
