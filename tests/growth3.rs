@@ -124,3 +124,42 @@ fn corner_crack_front_ends_grow_along_free_faces() {
         assert!(off < 0.1, "face node {l} left its face by {off} mm");
     }
 }
+
+/// A front within reach of the far face (growth3 module doc, item 5, "within reach of the
+/// boundary"): the extruded slab of `front_growth_slab` with its crack run to x = 19.8,
+/// 0.1 cell from the far face x = 20, checked from the start of the load ramp, where
+/// J ≤ 0.02 N/mm and K_eq is far below K_Ic. Every front node stays (no move), its relative
+/// volume is below ¾ and the point an increment ahead is outside, so each is marked `edge`
+/// at the first check and every front edge is pruned: the front has reached the edge.
+/// Control: the same crack ending at x = 18 (one cell from the face, V = 1) keeps its
+/// front, its nodes `growing`.
+#[test]
+fn front_within_reach_of_the_far_face_stops_there() {
+    let run = |tip: f64| {
+        let scene = SceneFile::new("front_growth_3d.toml")
+            .set("cracks.0.surface", &format!("{{ polygon = {{ points = [[-2.0, 0.0, -1.0], [-2.0, 0.0, 5.0], [{tip}, 0.0, 5.0], [{tip}, 0.0, -1.0]] }} }}"))
+            .set("solver.end_time", "0.003")
+            .load3()
+            .unwrap();
+        let mut sim = scene.build().unwrap();
+        assert!(!sim.cracks[0].front.is_empty(), "the crack ending at x = {tip} has a front");
+        sim.run_until(scene.solver.end_time, |_| {}).unwrap();
+        sim
+    };
+    use cramp::fracture::growth3::NodeStatus;
+    let sim = run(19.8);
+    let g = sim.growth.as_ref().unwrap();
+    let first = g.records[0].step;
+    let rows: Vec<_> = g.records.iter().filter(|r| r.step == first).collect();
+    assert!(!rows.is_empty());
+    for r in &rows {
+        assert!(!r.grew && r.j1 < 0.02 && !(r.k_eq >= 6.0), "node {} at x = {} grew or met the criterion: {r:?}", r.label, r.x.x);
+        assert_eq!(r.status, NodeStatus::AtEdge, "node {} at x = {}", r.label, r.x.x);
+    }
+    assert!(sim.cracks[0].front.is_empty(), "every front edge has both ends at the boundary and is pruned");
+    assert_eq!(g.records.iter().filter(|r| r.grew).count(), 0);
+    let sim = run(18.0);
+    let g = sim.growth.as_ref().unwrap();
+    assert!(g.records.iter().all(|r| r.status == NodeStatus::Growing && !r.grew));
+    assert!(!sim.cracks[0].front.is_empty(), "a front a cell from the face stays");
+}
