@@ -491,21 +491,24 @@ mod tests {
         }
     }
 
-    /// Two neighbours whose moves fold the new strip over itself (the node at y = 0 heads
-    /// 72° off the front normal, past its neighbour's new position): the new triangles of
-    /// the two front edges meet each other, not the existing surface, so the nodes are
-    /// reported `folded` (retried by the driver), not `refused`; the rest advance and the
-    /// surface stays valid. The wall of `crossing_move_is_refused` reports `refused` only.
+    /// Moves that fold the new strip over itself: every node of a 4-edge strip advances
+    /// by 0.5 except node 5 (y = 0), which stays, and node 3 (y = −1), whose heading swings
+    /// 68° up past it to (1.4, 0.95): the new triangle (1′, 3′, c) of edge 1→3 enters the
+    /// triangle (7, 5, 7′) of edge 5→7 (none of the edges is short or turned over, so no
+    /// merge applies). The new triangles meet each other, not the existing surface: the
+    /// nodes are reported `folded` (the driver retries them), not `refused`, and the rest
+    /// advance on a valid surface. The wall of `crossing_move_is_refused` gives `refused`
+    /// only.
     #[test]
     fn folding_moves_are_told_from_crossing_ones() {
         let (mut c, mut refs) = strip(4);
         let mut moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
-        // Node 5 at (1, 0, 0) past node 7's new position (1.5, 1, 0).
-        moves.insert(5, Vector3::new(1.4, 1.3, 0.0));
+        moves.remove(&5);
+        moves.insert(3, Vector3::new(1.4, 0.95, 0.0));
         let r = advance_front(&mut c, &mut refs, &moves, &[]);
         assert!(r.refused.is_empty(), "refused {:?}", r.refused);
-        assert!(r.folded.contains(&5), "folded {:?}", r.folded);
-        assert!(r.moved.iter().any(|m| m.0 == 1) && r.moved.iter().any(|m| m.0 == 9), "the far nodes advance: {:?}", r.moved);
+        assert!(r.folded.contains(&3) && r.folded.contains(&7), "folded {:?}", r.folded);
+        assert!(r.moved.iter().any(|m| m.0 == 9), "node 9 advances: {:?}", r.moved);
         check_valid(&c);
 
         let (mut c, mut refs) = strip(2);

@@ -122,7 +122,7 @@ pub fn run_example(
     let front_state = |sim: &crate::simulation::Simulation<crate::dim::D3>| {
         let c = &sim.cracks[0];
         let v = &c.surface.vertices;
-        let length = c.front.iter().map(|&[a, b]| (v[a as usize] - v[b as usize]).norm()).sum();
+        let length = c.front.iter().map(|&[a, b]| (v[a as usize] - v[b as usize]).norm()).sum::<f64>() + 0.0;
         let deg = front_degree(c);
         let ends: Vec<f64> = deg.iter().filter(|(_, &d)| d == 1).map(|(&k, _)| along_face(&v[k as usize])).collect();
         FrontState {
