@@ -70,8 +70,8 @@
 //!    stopped are pruned as before. Nodes on symmetry planes and interior nodes are not
 //!    affected.
 //!    **Within reach of the boundary** ([`near_boundary`]): a growing node that does not
-//!    move at a check (its criterion not met, or its speed limit) also stops for good at
-//!    the boundary (status `edge`, where it is) when its relative volume, with the images
+//!    meet its criterion at a check also stops for good at the boundary (status `edge`,
+//!    where it is) when its relative volume, with the images
 //!    above, is below [`NEAR_BOUNDARY_VOLUME`] = ¾ — the 2D driver's "on the boundary",
 //!    within 0.29 of a cell of a flat face — and the point one increment ahead along its
 //!    x1 (along the face for a front end on a free face) lies outside (V < ½): the
@@ -336,7 +336,6 @@ impl Simulation<D3> {
                         Some(n) => mirrored_volume(b, mat, x, &planes) + mirrored_volume(b, mat, reflect(x, fr.x, n), &planes),
                         None => mirrored_volume(b, mat, x, &planes),
                     };
-                    let mut moved = false;
                     if meets {
                         let c_r = rayleigh_speed_for(m).map_err(|e| err(format!("Rayleigh speed: {e}")))?;
                         if speed_allows(&node.events, node.advance, self.time, da, c_r, fg.settings.max_speed, fg.settings.speed_window) {
@@ -356,12 +355,12 @@ impl Simulation<D3> {
                             // Too short a move would make a degenerate triangle: stop there instead.
                             if (target - fr.x).norm() >= 1e-3 * h {
                                 moves.insert(v, target);
-                                moved = true;
                             }
                         }
                     }
-                    // A node that stays, within reach of the boundary ahead (module doc, item 5).
-                    if !moved && status == NodeStatus::Growing {
+                    // A node that does not meet its criterion, within reach of the boundary
+                    // ahead (module doc, item 5).
+                    if !meets && status == NodeStatus::Growing {
                         let ahead = match face_normal {
                             Some(n) => along_face(fr.frame.e1, n),
                             None => Some(fr.frame.e1),
@@ -626,7 +625,7 @@ pub fn along_face(heading: Vector3, n: Vector3) -> Option<Vector3> {
     (heading - n * heading.dot(&n)).try_normalize(1e-6)
 }
 
-/// Whether a front node at x that does not move at a check has reached the material
+/// Whether a front node at x that does not meet its criterion has reached the material
 /// boundary ahead of it (module doc, item 5): its relative volume `volume(x)` (with the
 /// images of its symmetry planes and free face) is below [`NEAR_BOUNDARY_VOLUME`] = ¾
 /// (the 2D driver's "on the boundary": within 0.29 of a cell of a flat face, where
