@@ -93,11 +93,15 @@
 //!    time and **retried at its next check** (status `growing`): the fold says nothing
 //!    about a crack in its way, and at the next check the node lags its neighbours by an
 //!    increment, which the growth frame of item 3 sees through. Measured on
-//!    `corner_crack_rod`: stopped for good, the 7 nodes of the first fold (headings up to
-//!    60° off the front normal at split points on a one-increment step of the front, all
-//!    five pairs new against new) lagged more at every check, their long front edges
-//!    spanned the surface grown past them, and 15 nodes by the far corner ended `crack`
-//!    with K_eq above K_Ic.
+//!    `corner_crack_rod` before the split and merge rules of [`advance_front`] were
+//!    made to measure across the moves and along the old edge: stopped for good, the 7
+//!    nodes of the first fold (headings 55–57° off the front normal at the split points
+//!    of a riser, all five meeting pairs new against new) lagged more at every check,
+//!    their long front edges spanned the surface grown past them, and 15 nodes by the far
+//!    corner ended `crack` with K_eq above K_Ic; retried instead (those rules not yet
+//!    changed), 7 of them were refused at every retry, as the split points' headings
+//!    stayed skewed. With the two rules the case has no fold at all (0 retries): the
+//!    retry is the fallback for a fold they do not prevent.
 //!
 //! A new front node made by a split takes a copy of the growth history (advance, increment
 //! times, status) of the lower-labelled end of its edge; merged nodes keep the history of
