@@ -334,16 +334,22 @@ impl Simulation<D3> {
                     let on_plane = planes.iter().any(|&(a, p)| p == fr.x[a]);
                     let b = boundary.get_or_insert_with(|| self.material_boundary3());
                     // A front end on a free face (module doc, item 5): along the face,
-                    // the face's image counted in the boundary test.
+                    // the face's image counted in the boundary test (not when the
+                    // direction is normal to the face: then the face stops it).
                     let face_normal = if !on_plane && degree.get(&v) == Some(&1) { free_face(b, mat, fr.x - fr.frame.e1 * h, &planes, h) } else { None };
-                    let volume = |x: Vector3| match face_normal {
-                        Some(n) => mirrored_volume(b, mat, x, &planes) + mirrored_volume(b, mat, reflect(x, fr.x, n), &planes),
-                        None => mirrored_volume(b, mat, x, &planes),
+                    let on_face = |dir: Vector3| face_normal.and_then(|n| along_face(dir, n).map(|d| (n, d)));
+                    let (b, pl, x0) = (&*b, planes.as_slice(), fr.x);
+                    let volume = |face: Option<(Vector3, Vector3)>| {
+                        move |x: Vector3| match face {
+                            Some((n, _)) => mirrored_volume(b, mat, x, pl) + mirrored_volume(b, mat, reflect(x, x0, n), pl),
+                            None => mirrored_volume(b, mat, x, pl),
+                        }
                     };
                     if meets {
                         let c_r = rayleigh_speed_for(m).map_err(|e| err(format!("Rayleigh speed: {e}")))?;
                         if speed_allows(&node.events, node.advance, self.time, da, c_r, fg.settings.max_speed, fg.settings.speed_window) {
-                            if let Some(d) = face_normal.and_then(|n| along_face(heading, n)) {
+                            let face = on_face(heading);
+                            if let Some((_, d)) = face {
                                 heading = d;
                             }
                             let mut to = fr.x + heading * da;
@@ -352,7 +358,7 @@ impl Simulation<D3> {
                                     to[a] = p;
                                 }
                             }
-                            let (target, at_edge) = trim_by(fr.x, to, volume);
+                            let (target, at_edge) = trim_by(fr.x, to, volume(face));
                             if at_edge {
                                 status = NodeStatus::AtEdge;
                             }
@@ -365,11 +371,9 @@ impl Simulation<D3> {
                     // A node that does not meet its criterion, within reach of the boundary
                     // ahead (module doc, item 5).
                     if !meets && status == NodeStatus::Growing {
-                        let ahead = match face_normal {
-                            Some(n) => along_face(fr.frame.e1, n),
-                            None => Some(fr.frame.e1),
-                        };
-                        if ahead.is_some_and(|d| near_boundary(&volume, fr.x, d, da)) {
+                        let face = on_face(fr.frame.e1);
+                        let ahead = face.map_or(fr.frame.e1, |(_, d)| d);
+                        if near_boundary(volume(face), fr.x, ahead, da) {
                             status = NodeStatus::AtEdge;
                             fg.near_edge += 1;
                         }
