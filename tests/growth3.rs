@@ -92,19 +92,7 @@ fn free_face_fronts_grow_through_the_slab() {
 /// like their neighbours (not stopped at their first move) and stay on the face.
 #[test]
 fn corner_crack_front_ends_grow_along_free_faces() {
-    let t = (30f64).to_radians().tan();
-    let c = 4.0 * t;
-    let a = 8.0 * (1.0 + 2.0 * t * t).sqrt();
-    let scene = SceneFile::new("corner_crack_rod_3d.toml")
-        .set("grid.origin", "[-4.0, -4.0, -24.0]")
-        .set("grid.size", "[28.0, 28.0, 48.0]")
-        .set("bodies.0.shape", "{ box = { min = [0.0, 0.0, -20.0], max = [20.0, 20.0, 20.0] } }")
-        .set("loads.0.particles", "{ box = { min = [-1.0, -1.0, 19.0], max = [21.0, 21.0, 20.0] } }")
-        .set("loads.1.particles", "{ box = { min = [-1.0, -1.0, -20.0], max = [21.0, 21.0, -19.0] } }")
-        .set("cracks.0.surface", &format!("{{ ellipse = {{ center = [0.0, 0.0, {c}], normal = [{t}, {t}, 1.0], axis = [1.0, 1.0, 0.0], a = {a}, b = 8.0 }} }}"))
-        .set("solver.end_time", "0.009")
-        .load3()
-        .unwrap();
+    let scene = half_rod().set("solver.end_time", "0.009").load3().unwrap();
     let mut sim = scene.build().unwrap();
     let crack = &sim.cracks[0];
     let on_face = |x: &cramp::dim::Vector3| x.x.abs() < 1e-9 || x.y.abs() < 1e-9;
@@ -123,4 +111,79 @@ fn corner_crack_front_ends_grow_along_free_faces() {
         let off = rows.iter().map(|r| r.x.x.abs().min(r.x.y.abs())).fold(0.0, f64::max);
         assert!(off < 0.1, "face node {l} left its face by {off} mm");
     }
+}
+
+/// A front within reach of the far face (growth3 module doc, item 5, "within reach of the
+/// boundary"): the extruded slab of `front_growth_slab` with its crack run to x = 19.8,
+/// 0.1 cell from the far face x = 20, checked from the start of the load ramp, where
+/// J ≤ 0.02 N/mm and K_eq is far below K_Ic. Every front node stays (no move), its relative
+/// volume is below ¾ and the point an increment ahead is outside, so each is marked `edge`
+/// at the first check and every front edge is pruned: the front has reached the edge.
+/// Control: the same crack ending at x = 18 (one cell from the face, V = 1) keeps its
+/// front, its nodes `growing`.
+#[test]
+fn front_within_reach_of_the_far_face_stops_there() {
+    let run = |tip: f64| {
+        let scene = SceneFile::new("front_growth_3d.toml")
+            .set("cracks.0.surface", &format!("{{ polygon = {{ points = [[-2.0, 0.0, -1.0], [-2.0, 0.0, 5.0], [{tip}, 0.0, 5.0], [{tip}, 0.0, -1.0]] }} }}"))
+            .set("solver.end_time", "0.003")
+            .load3()
+            .unwrap();
+        let mut sim = scene.build().unwrap();
+        assert!(!sim.cracks[0].front.is_empty(), "the crack ending at x = {tip} has a front");
+        sim.run_until(scene.solver.end_time, |_| {}).unwrap();
+        sim
+    };
+    use cramp::fracture::growth3::NodeStatus;
+    let sim = run(19.8);
+    let g = sim.growth.as_ref().unwrap();
+    let first = g.records[0].step;
+    let rows: Vec<_> = g.records.iter().filter(|r| r.step == first).collect();
+    assert!(!rows.is_empty());
+    for r in &rows {
+        assert!(!r.grew && r.j1 < 0.02 && !(r.k_eq >= 6.0), "node {} at x = {} grew or met the criterion: {r:?}", r.label, r.x.x);
+        assert_eq!(r.status, NodeStatus::AtEdge, "node {} at x = {}", r.label, r.x.x);
+    }
+    assert!(sim.cracks[0].front.is_empty(), "every front edge has both ends at the boundary and is pruned");
+    assert_eq!(g.records.iter().filter(|r| r.grew).count(), 0);
+    let sim = run(18.0);
+    let g = sim.growth.as_ref().unwrap();
+    assert!(g.records.iter().all(|r| r.status == NodeStatus::Growing && !r.grew));
+    assert!(!sim.cracks[0].front.is_empty(), "a front a cell from the face stays");
+}
+
+/// `corner_crack_rod_3d.toml` scaled by ½ (the scene of
+/// `corner_crack_front_ends_grow_along_free_faces`).
+fn half_rod() -> SceneFile {
+    let t = (30f64).to_radians().tan();
+    let c = 4.0 * t;
+    let a = 8.0 * (1.0 + 2.0 * t * t).sqrt();
+    SceneFile::new("corner_crack_rod_3d.toml")
+        .set("grid.origin", "[-4.0, -4.0, -24.0]")
+        .set("grid.size", "[28.0, 28.0, 48.0]")
+        .set("bodies.0.shape", "{ box = { min = [0.0, 0.0, -20.0], max = [20.0, 20.0, 20.0] } }")
+        .set("loads.0.particles", "{ box = { min = [-1.0, -1.0, 19.0], max = [21.0, 21.0, 20.0] } }")
+        .set("loads.1.particles", "{ box = { min = [-1.0, -1.0, -20.0], max = [21.0, 21.0, -19.0] } }")
+        .set("cracks.0.surface", &format!("{{ ellipse = {{ center = [0.0, 0.0, {c}], normal = [{t}, {t}, 1.0], axis = [1.0, 1.0, 0.0], a = {a}, b = 8.0 }} }}"))
+}
+
+/// The whole front of the half-scale corner crack reaches the specimen's edges (001
+/// §3.3: growth runs until the whole front has reached them; case `corner_crack_rod` at
+/// full scale): every front edge is pruned at the boundary by 16 µs, no node is stopped
+/// at a crack, and some nodes were stopped within reach of the boundary (growth3 module
+/// doc, item 5: before that rule two nodes 0.3 mm inside the faces y = 20 and x = 20
+/// with J₁ < 0 kept status `growing` to the end and 5 front edges stayed). Measured: the
+/// last front nodes stop at 14.4 µs (step 84), about 6 s.
+#[test]
+fn half_scale_corner_crack_front_reaches_the_edges() {
+    use cramp::fracture::growth3::NodeStatus;
+    let scene = half_rod().set("solver.end_time", "0.016").load3().unwrap();
+    let mut sim = scene.build().unwrap();
+    sim.run_until(scene.solver.end_time, |_| {}).unwrap();
+    let g = sim.growth.as_ref().unwrap();
+    assert!(sim.cracks[0].front.is_empty(), "{} front edges left", sim.cracks[0].front.len());
+    assert!(g.records.iter().all(|r| r.status != NodeStatus::AtCrack), "a node was stopped at a crack");
+    assert!(g.cracks[0].near_edge > 0, "no node needed the within-reach rule");
+    let last = g.records.last().unwrap();
+    assert!(g.records.iter().filter(|r| r.step == last.step).all(|r| r.status == NodeStatus::AtEdge));
 }

@@ -21,21 +21,44 @@
 //!   (a′, b′, c), (b′, b, c). Four triangles rather than two because a diagonal would pick
 //!   one of two mirror-image cuts: the centre keeps a mirror-symmetric front symmetric to
 //!   the bit (c and the midpoints below are symmetric in a ↔ b).
-//! * **split**: if |a′b′| > 2 L (L the edge's reference length), the midpoint p of a′b′ is
-//!   added and the quadrilateral is cut into five: (b, a, c), (a, a′, c), (a′, p, c),
-//!   (p, b′, c), (b′, b, c); the front edges a′→p and p→b′ each keep L.
-//! * **merge**: if |a′b′| < L/4 (both ends moved), a′ and b′ become one crack particle at
-//!   their midpoint m and the edge leaves one triangle (b, a, m) and no front edge; the
-//!   neighbouring edges end at m. (A short edge with one end moving is not merged: the
-//!   moving end travels away from the other along the front normal.)
+//! * **split**: if the new edge is longer than 2 L (L the edge's reference length)
+//!   **across the moves** — its length normal to m = (a′ − a) + (b′ − b), the two ends'
+//!   summed moves (|a′b′| itself when m is zero) — the midpoint p of a′b′ is added and the
+//!   quadrilateral is cut into five: (b, a, c), (a, a′, c), (a′, p, c), (p, b′, c),
+//!   (b′, b, c); the front edges a′→p and p→b′ each keep L. Across the moves, because a
+//!   front that grows node by node is a staircase (growth3 module doc, item 3): an edge
+//!   whose one end has made an increment more than the other (a riser) lies along the
+//!   moves and is long without the front having stretched. Split at its midpoint, it
+//!   gave a node halfway up the riser, whose front tangent (and so its direction of
+//!   growth) pointed up the riser: measured on `corner_crack_rod`, headings 55° and 57°
+//!   off the front normal at the two split points of a riser, 27° at their neighbours,
+//!   and the new strip folded over itself. For an edge normal to its ends' moves (a
+//!   front growing evenly, a penny's radial growth) it is |a′b′|, the paper's test.
+//! * **merge**: if the new edge is shorter than L/4 **along the old edge** (both ends
+//!   moved): (b′ − a′)·(b − a)/|b − a| < L/4, a′ and b′ become one crack particle at their
+//!   midpoint m and the edge leaves one triangle (b, a, m) and no front edge; the
+//!   neighbouring edges end at m. Measured along the old edge, so that a new edge that
+//!   has turned over (its ends' moves crossed: the projection is negative however long
+//!   |a′b′| is) is merged too — it has passed through zero length on the way, where the
+//!   paper's rule ("less than 25 % of the initial length") would have shrunk it into a
+//!   point; for a new edge parallel to the old one it is |a′b′| < L/4, the paper's test.
+//!   (A short edge with one end moving is not merged: the moving end travels away from
+//!   the other along the front normal.)
 //! * **reference length** L: the edge's length when the crack was built; an edge made by
 //!   moving or splitting inherits its parent's L, so "two times longer than the initial
 //!   length" keeps meaning the initial discretisation wherever the front has gone.
 //! * **no crossing**: a new triangle may not meet any existing triangle of any crack (or
 //!   another new one) except at shared corners (exact test, [`triangles_meet`]). Every
-//!   front node whose move makes such a triangle is refused (it stays, and stops for
-//!   good, as a 2D tip that would cross a crack does), and the advance is rebuilt without
-//!   it until no triangle meets.
+//!   front node whose move makes such a triangle is refused (it stays where it is), and
+//!   the advance is rebuilt without it until no triangle meets. The report tells the two
+//!   kinds apart: a node whose new triangles meet the **existing** surface (of this crack
+//!   or another) is `refused` — its move would cut a crack, and the driver stops it for
+//!   good, as a 2D tip that would cross a crack; a node whose new triangles meet only
+//!   **other new triangles** of the same advance is `folded` — its move and a
+//!   neighbour's fold the new strip over itself (headings that converge or cross over a
+//!   distance of one increment, e.g. on a one-increment staircase of the front), which
+//!   says nothing about the crack it would meet, and the driver retries it at its next
+//!   check, when the front's shape and the headings have changed.
 //!
 //! New crack particles start with both crack surfaces at their position (as a new 2D tip
 //! particle does). Everything is a deterministic function of the inputs.
@@ -43,7 +66,7 @@
 use super::surface::{triangles_meet, TriangleSurface};
 use super::three_d::Crack3;
 use crate::dim::Vector3;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// Split a front edge whose new length exceeds this many reference lengths.
 pub const SPLIT_RATIO: f64 = 2.0;
@@ -58,8 +81,12 @@ pub struct AdvanceReport {
     pub new_triangles: usize,
     pub splits: usize,
     pub merges: usize,
-    /// Front nodes whose move was refused because a new triangle would meet a crack.
+    /// Front nodes whose move was refused because a new triangle would meet the existing
+    /// surface of this crack or another (module doc, "no crossing").
     pub refused: Vec<u32>,
+    /// Front nodes whose move was refused only because a new triangle would meet another
+    /// new triangle of this advance (the new strip folding over itself).
+    pub folded: Vec<u32>,
     /// (old front node, its new crack particle) for every node that moved (merged nodes
     /// share one new particle).
     pub moved: Vec<(u32, u32)>,
@@ -86,24 +113,31 @@ pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTree
     assert_eq!(front_ref.len(), crack.front.len(), "one reference length per front edge");
     let mut moves = moves.clone();
     let mut refused = Vec::new();
+    let mut folded = Vec::new();
     let plan = loop {
         let plan = plan(crack, front_ref, &moves);
-        let bad = crossing_sources(crack, &plan, others);
-        if bad.is_empty() {
+        let (existing, new) = crossing_sources(crack, &plan, others);
+        if existing.is_empty() && new.is_empty() {
             break plan;
         }
-        for v in bad {
+        for v in new.difference(&existing) {
+            moves.remove(v);
+            folded.push(*v);
+        }
+        for v in existing {
             moves.remove(&v);
             refused.push(v);
         }
     };
     refused.sort_unstable();
+    folded.sort_unstable();
     let report = AdvanceReport {
         new_vertices: plan.vertices.len(),
         new_triangles: plan.triangles.len(),
         splits: plan.splits,
         merges: plan.merges,
         refused,
+        folded,
         moved: plan.moved.clone(),
     };
     let s = &mut crack.surface;
@@ -153,7 +187,8 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Pl
     for (&v, &x) in moves {
         moved.insert(v, add(&mut vertices, x));
     }
-    // Merges: both ends moved and the new edge shorter than MERGE_RATIO·L. A node in two
+    // Merges: both ends moved and the new edge shorter than MERGE_RATIO·L along the old
+    // one (a turned-over edge has a negative projection). A node in two
     // merges (two short edges in a row) joins both into one particle: union by the lower
     // new index, position the mean of the members' new positions.
     let mut parent: BTreeMap<u32, u32> = moved.values().map(|&n| (n, n)).collect();
@@ -168,7 +203,8 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Pl
     for (k, &[a, b]) in crack.front.iter().enumerate() {
         if let (Some(&na), Some(&nb)) = (moved.get(&a), moved.get(&b)) {
             let (xa, xb) = (vertices[(na - first_new) as usize], vertices[(nb - first_new) as usize]);
-            if (xb - xa).norm() < MERGE_RATIO * front_ref[k] {
+            let old = pts[b as usize] - pts[a as usize];
+            if (xb - xa).dot(&old) < MERGE_RATIO * front_ref[k] * old.norm() {
                 let (ra, rb) = (root(&parent, na), root(&parent, nb));
                 if ra != rb {
                     let (lo, hi) = (ra.min(rb), ra.max(rb));
@@ -225,7 +261,7 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Pl
             (Some(na), Some(nb)) => {
                 let (xa, xb) = (pos(&vertices, na), pos(&vertices, nb));
                 let c = add(&mut vertices, ((pts[a as usize] + pts[b as usize]) + (xa + xb)) * 0.25);
-                let quad = if (xb - xa).norm() > SPLIT_RATIO * l {
+                let quad = if across_moves(xb - xa, (xa - pts[a as usize]) + (xb - pts[b as usize])) > SPLIT_RATIO * l {
                     splits += 1;
                     let p = add(&mut vertices, (xa + xb) * 0.5);
                     front.push(([na, p], l));
@@ -245,9 +281,19 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Pl
     Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, splits, merges }
 }
 
+/// The length of the new edge `e` = b′ − a′ normal to `m`, its ends' summed moves (module
+/// doc, "split"); |e| when m is zero.
+fn across_moves(e: Vector3, m: Vector3) -> f64 {
+    match m.try_normalize(0.0) {
+        Some(u) => (e - u * u.dot(&e)).norm(),
+        None => e.norm(),
+    }
+}
+
 /// The moved front nodes whose new triangles meet an existing triangle (of this crack or
-/// `others`) or another new triangle, other than at shared corners.
-fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) -> Vec<u32> {
+/// `others`), and those whose new triangles meet another new triangle, other than at
+/// shared corners: (existing, new).
+fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) -> (BTreeSet<u32>, BTreeSet<u32>) {
     let pts = &crack.surface.vertices;
     let first_new = pts.len() as u32;
     let pos = |n: u32| if n < first_new { pts[n as usize] } else { plan.vertices[(n - first_new) as usize] };
@@ -255,8 +301,8 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) ->
     let bbox = |t: &[Vector3; 3]| (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]));
     let overlap = |a: &(Vector3, Vector3), b: &(Vector3, Vector3)| (0..3).all(|d| a.0[d] <= b.1[d] && b.0[d] <= a.1[d]);
     let new_boxes: Vec<_> = new_tris.iter().map(bbox).collect();
-    let mut bad = std::collections::BTreeSet::new();
-    let mut flag = |i: usize| bad.extend(plan.sources[i].iter().copied());
+    let mut existing = BTreeSet::new();
+    let mut flag = |i: usize| existing.extend(plan.sources[i].iter().copied());
     // Against this crack's existing triangles (sharing a corner index is adjacency).
     for tri in &crack.surface.triangles {
         let old = tri.map(|n| pts[n as usize]);
@@ -280,6 +326,8 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) ->
         }
     }
     // New triangles among themselves.
+    let mut new = BTreeSet::new();
+    let mut flag = |i: usize| new.extend(plan.sources[i].iter().copied());
     for i in 0..plan.triangles.len() {
         for j in i + 1..plan.triangles.len() {
             if overlap(&new_boxes[i], &new_boxes[j])
@@ -291,7 +339,7 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) ->
             }
         }
     }
-    bad.into_iter().collect()
+    (existing, new)
 }
 
 #[cfg(test)]
@@ -441,6 +489,37 @@ mod tests {
             assert!(!triangles_meet(&tri.map(|n| c.surface.vertices[n as usize]), &[wall.vertices[0], wall.vertices[1], wall.vertices[2]]), "triangle {t}");
             assert!(!triangles_meet(&tri.map(|n| c.surface.vertices[n as usize]), &[wall.vertices[0], wall.vertices[2], wall.vertices[3]]), "triangle {t}");
         }
+    }
+
+    /// Moves that fold the new strip over itself: every node of a 4-edge strip advances
+    /// by 0.5 except node 5 (y = 0), which stays, and node 3 (y = −1), whose heading swings
+    /// 68° up past it to (1.4, 0.95): the new triangle (1′, 3′, c) of edge 1→3 enters the
+    /// triangle (7, 5, 7′) of edge 5→7 (none of the edges is short or turned over, so no
+    /// merge applies). The new triangles meet each other, not the existing surface: the
+    /// nodes are reported `folded` (the driver retries them), not `refused`, and the rest
+    /// advance on a valid surface. The wall of `crossing_move_is_refused` gives `refused`
+    /// only.
+    #[test]
+    fn folding_moves_are_told_from_crossing_ones() {
+        let (mut c, mut refs) = strip(4);
+        let mut moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
+        moves.remove(&5);
+        moves.insert(3, Vector3::new(1.4, 0.95, 0.0));
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert!(r.refused.is_empty(), "refused {:?}", r.refused);
+        assert!(r.folded.contains(&3) && r.folded.contains(&7), "folded {:?}", r.folded);
+        assert!(r.moved.iter().any(|m| m.0 == 9), "node 9 advances: {:?}", r.moved);
+        check_valid(&c);
+
+        let (mut c, mut refs) = strip(2);
+        let wall = TriangleSurface::new(
+            vec![Vector3::new(1.25, -1.5, -1.0), Vector3::new(1.25, -0.3, -1.0), Vector3::new(1.25, -0.3, 1.0), Vector3::new(1.25, -1.5, 1.0)],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap();
+        let moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
+        let r = advance_front(&mut c, &mut refs, &moves, &[&wall]);
+        assert_eq!((r.refused.clone(), r.folded.clone()), (vec![1, 3], vec![]));
     }
 
     /// A penny crack (closed front) grown radially by half its edge length 20 times (radius

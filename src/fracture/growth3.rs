@@ -69,11 +69,39 @@
 //!    right-angled edge, 2V = ½) or leaves the material along it, and edges with both ends
 //!    stopped are pruned as before. Nodes on symmetry planes and interior nodes are not
 //!    affected.
+//!    **Within reach of the boundary** ([`near_boundary`]): a growing node that does not
+//!    meet its criterion at a check also stops for good at the boundary (status `edge`,
+//!    where it is) when its relative volume, with the images
+//!    above, is below [`NEAR_BOUNDARY_VOLUME`] = ¾ — the 2D driver's "on the boundary",
+//!    within 0.29 of a cell of a flat face — and the point one increment ahead along its
+//!    x1 (along the face for a front end on a free face) lies outside (V < ½): the
+//!    boundary is the one ahead, and its next move would be trimmed there. Such a node
+//!    cannot reach the boundary by the criterion: its contour (radius ≥ 1 cell) is cut by
+//!    the free face, the missing part of the circle and the face's W n₁ term are not in
+//!    J₁, and J₁ comes out small or negative (K = 0; measured on `corner_crack_rod`: 8
+//!    nodes 0.03–0.19 mm short of the boundary of the far faces with J₁ = −0.5 … −30 N/mm
+//!    never moved again, kept status `growing`, and their front edges were never pruned).
+//!    The ligament it leaves, at most 0.29 cell, is below the resolution of the MPM
+//!    material boundary itself (001 §2.3.3: "approximately along the grid lines").
 //! 6. **New surface** ([`advance_front`], 001 Fig. 3): one triangle per front edge with one
 //!    end moving, four with both, five when the new edge exceeds twice its reference length
 //!    (split, a new front node), one and a merged node when it falls below a quarter. A
-//!    node whose new triangles would meet any crack surface is refused and stops for good
-//!    (status `crack`), as a 2D tip.
+//!    node whose new triangles would meet the existing surface of any crack is refused and
+//!    stops for good (status `crack`), as a 2D tip. A node whose new triangles meet only
+//!    another new triangle of the same advance (the new strip folds over itself: its
+//!    heading and a neighbour's converge or cross within one increment) is refused this
+//!    time and **retried at its next check** (status `growing`): the fold says nothing
+//!    about a crack in its way, and at the next check the node lags its neighbours by an
+//!    increment, which the growth frame of item 3 sees through. Measured on
+//!    `corner_crack_rod` before the split and merge rules of [`advance_front`] were
+//!    made to measure across the moves and along the old edge: stopped for good, the 7
+//!    nodes of the first fold (headings 55–57° off the front normal at the split points
+//!    of a riser, all five meeting pairs new against new) lagged more at every check,
+//!    their long front edges spanned the surface grown past them, and 15 nodes by the far
+//!    corner ended `crack` with K_eq above K_Ic; retried instead (those rules not yet
+//!    changed), 7 of them were refused at every retry, as the split points' headings
+//!    stayed skewed. With the two rules the case has no fold at all (0 retries): the
+//!    retry is the fallback for a fold they do not prevent.
 //!
 //! A new front node made by a split takes a copy of the growth history (advance, increment
 //! times, status) of the lower-labelled end of its edge; merged nodes keep the history of
@@ -90,7 +118,7 @@ use crate::crack::advance3::{advance_front, prune_front};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
-use crate::fracture::growth::{speed_allows, speed_estimate, GrowthError, GrowthSettings, Toughness};
+use crate::fracture::growth::{speed_allows, speed_estimate, GrowthError, GrowthSettings, Toughness, BOUNDARY_VOLUME, NEAR_BOUNDARY_VOLUME};
 use crate::fracture::speed::{rayleigh_speed_for, speed_factors_for};
 use crate::simulation::Simulation;
 use std::collections::{BTreeMap, BTreeSet};
@@ -160,10 +188,14 @@ pub struct FrontGrowth {
     /// The current front nodes by crack-particle index.
     pub nodes: BTreeMap<u32, NodeGrowth>,
     pub next_label: u32,
-    /// Front edges split and merged, nodes refused, edges pruned so far.
+    /// Front edges split and merged, edges pruned so far.
     pub splits: usize,
     pub merges: usize,
     pub pruned: usize,
+    /// Moves refused because the new strip folded over itself (retried, module doc item 6)
+    /// and nodes stopped within reach of the boundary (item 5), so far.
+    pub folded: usize,
+    pub near_edge: usize,
 }
 
 /// One evaluation at one front node (a row of the 3D growth.csv).
@@ -245,7 +277,7 @@ impl Growth3 {
                 let nodes: BTreeMap<u32, NodeGrowth> =
                     ids.iter().enumerate().map(|(k, &v)| (v, NodeGrowth::start(k as u32))).collect();
                 let next_label = nodes.len() as u32;
-                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0 }
+                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0, folded: 0, near_edge: 0 }
             })
             .collect();
         Growth3 { toughness, cracks, records: Vec::new() }
@@ -297,35 +329,53 @@ impl Simulation<D3> {
                 let mut heading = fr.frame.e1 * theta.cos() + fr.frame.e2 * theta.sin();
                 let meets = matches!((toughness, dir), (Some(t), Some((_, keq))) if keq >= t.kic);
                 let mut status = node.status;
-                if status == NodeStatus::Growing && meets {
-                    let c_r = rayleigh_speed_for(m).map_err(|e| err(format!("Rayleigh speed: {e}")))?;
-                    if speed_allows(&node.events, node.advance, self.time, da, c_r, fg.settings.max_speed, fg.settings.speed_window) {
-                        let planes = self.symmetry_planes(&fr.x);
-                        let on_plane = planes.iter().any(|&(a, p)| p == fr.x[a]);
-                        let b = boundary.get_or_insert_with(|| self.material_boundary3());
-                        // A front end on a free face (module doc, item 5): along the face,
-                        // the face's image counted in the boundary test.
-                        let face = if !on_plane && degree.get(&v) == Some(&1) { free_face(b, mat, fr.x - fr.frame.e1 * h, &planes, h).and_then(|n| along_face(heading, n).map(|d| (n, d))) } else { None };
-                        if let Some((_, d)) = face {
-                            heading = d;
+                if status == NodeStatus::Growing {
+                    let planes = self.symmetry_planes(&fr.x);
+                    let on_plane = planes.iter().any(|&(a, p)| p == fr.x[a]);
+                    let b = boundary.get_or_insert_with(|| self.material_boundary3());
+                    // A front end on a free face (module doc, item 5): along the face,
+                    // the face's image counted in the boundary test (not when the
+                    // direction is normal to the face: then the face stops it).
+                    let face_normal = if !on_plane && degree.get(&v) == Some(&1) { free_face(b, mat, fr.x - fr.frame.e1 * h, &planes, h) } else { None };
+                    let on_face = |dir: Vector3| face_normal.and_then(|n| along_face(dir, n).map(|d| (n, d)));
+                    let (b, pl, x0) = (&*b, planes.as_slice(), fr.x);
+                    let volume = |face: Option<(Vector3, Vector3)>| {
+                        move |x: Vector3| match face {
+                            Some((n, _)) => mirrored_volume(b, mat, x, pl) + mirrored_volume(b, mat, reflect(x, x0, n), pl),
+                            None => mirrored_volume(b, mat, x, pl),
                         }
-                        let mut to = fr.x + heading * da;
-                        for &(a, p) in &planes {
-                            if p == fr.x[a] {
-                                to[a] = p;
+                    };
+                    if meets {
+                        let c_r = rayleigh_speed_for(m).map_err(|e| err(format!("Rayleigh speed: {e}")))?;
+                        if speed_allows(&node.events, node.advance, self.time, da, c_r, fg.settings.max_speed, fg.settings.speed_window) {
+                            let face = on_face(heading);
+                            if let Some((_, d)) = face {
+                                heading = d;
+                            }
+                            let mut to = fr.x + heading * da;
+                            for &(a, p) in &planes {
+                                if p == fr.x[a] {
+                                    to[a] = p;
+                                }
+                            }
+                            let (target, at_edge) = trim_by(fr.x, to, volume(face));
+                            if at_edge {
+                                status = NodeStatus::AtEdge;
+                            }
+                            // Too short a move would make a degenerate triangle: stop there instead.
+                            if (target - fr.x).norm() >= 1e-3 * h {
+                                moves.insert(v, target);
                             }
                         }
-                        let volume = |x: Vector3| match face {
-                            Some((n, _)) => mirrored_volume(b, mat, x, &planes) + mirrored_volume(b, mat, reflect(x, fr.x, n), &planes),
-                            None => mirrored_volume(b, mat, x, &planes),
-                        };
-                        let (target, at_edge) = trim_by(fr.x, to, volume);
-                        if at_edge {
+                    }
+                    // A node that does not meet its criterion, within reach of the boundary
+                    // ahead (module doc, item 5).
+                    if !meets && status == NodeStatus::Growing {
+                        let face = on_face(fr.frame.e1);
+                        let ahead = face.map_or(fr.frame.e1, |(_, d)| d);
+                        if near_boundary(volume(face), fr.x, ahead, da) {
                             status = NodeStatus::AtEdge;
-                        }
-                        // Too short a move would make a degenerate triangle: stop there instead.
-                        if (target - fr.x).norm() >= 1e-3 * h {
-                            moves.insert(v, target);
+                            fg.near_edge += 1;
                         }
                     }
                 }
@@ -358,6 +408,8 @@ impl Simulation<D3> {
                 self.cracks[c] = crack;
                 fg.splits += report.splits;
                 fg.merges += report.merges;
+                // Folded moves are retried at the next check: the node keeps its status.
+                fg.folded += report.folded.len();
                 for v in &report.refused {
                     fg.nodes.get_mut(v).expect("front node").status = NodeStatus::AtCrack;
                     if let Some(r) = rows.iter_mut().find(|r| r.vertex == *v) {
@@ -579,6 +631,17 @@ pub const FACE_GRADIENT: f64 = 0.25;
 /// None if the heading is (nearly) normal to the face.
 pub fn along_face(heading: Vector3, n: Vector3) -> Option<Vector3> {
     (heading - n * heading.dot(&n)).try_normalize(1e-6)
+}
+
+/// Whether a front node at x that does not meet its criterion has reached the material
+/// boundary ahead of it (module doc, item 5): its relative volume `volume(x)` (with the
+/// images of its symmetry planes and free face) is below [`NEAR_BOUNDARY_VOLUME`] = ¾
+/// (the 2D driver's "on the boundary": within 0.29 of a cell of a flat face, where
+/// V = 1 − (1 − d/h)²/2), and the point one increment `da` ahead along `ahead` (its x1,
+/// along the face for a front end on a free face) lies outside (V < ½), so the boundary
+/// is the one ahead of it and its next move would be trimmed.
+pub fn near_boundary(volume: impl Fn(Vector3) -> f64, x: Vector3, ahead: Vector3, da: f64) -> bool {
+    volume(x) < NEAR_BOUNDARY_VOLUME && volume(x + ahead * da) < BOUNDARY_VOLUME
 }
 
 /// The mirror image of x across the plane through p with unit normal n.

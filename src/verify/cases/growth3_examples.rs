@@ -75,6 +75,10 @@ pub struct ExampleRun {
     pub splits: usize,
     pub merges: usize,
     pub pruned: usize,
+    /// Moves refused for folding the new strip (retried) and nodes stopped within reach of
+    /// the boundary (growth3 module doc, items 5–6).
+    pub folded: usize,
+    pub near_edge: usize,
     /// Largest distance outside the specimen of a crack particle made by growth, over all steps.
     pub max_outside: f64,
     pub increment: f64,
@@ -118,7 +122,7 @@ pub fn run_example(
     let front_state = |sim: &crate::simulation::Simulation<crate::dim::D3>| {
         let c = &sim.cracks[0];
         let v = &c.surface.vertices;
-        let length = c.front.iter().map(|&[a, b]| (v[a as usize] - v[b as usize]).norm()).sum();
+        let length = c.front.iter().map(|&[a, b]| (v[a as usize] - v[b as usize]).norm()).sum::<f64>() + 0.0;
         let deg = front_degree(c);
         let ends: Vec<f64> = deg.iter().filter(|(_, &d)| d == 1).map(|(&k, _)| along_face(&v[k as usize])).collect();
         FrontState {
@@ -170,6 +174,8 @@ pub fn run_example(
         splits: g.cracks[0].splits,
         merges: g.cracks[0].merges,
         pruned: g.cracks[0].pruned,
+        folded: g.cracks[0].folded,
+        near_edge: g.cracks[0].near_edge,
         max_outside,
         increment,
     })
@@ -339,7 +345,8 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
     out.note(format!(
         "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. \
          Growth from t = {:.4} ms (check at step {}): {} node moves; front nodes {} at the start, at most {}, {} at the end \
-         ({} front edges; {} splits, {} merges, {} edges pruned at the boundary; node status at the last check {:?}). \
+         ({} front edges; {} splits, {} merges, {} edges pruned at the boundary, {} nodes stopped within reach of it, {} moves \
+         refused for folding the new strip and retried; node status at the last check {:?}). \
          Crack surface {} → {} triangles, {} → {} crack particles.",
         r.particles,
         r.steps,
@@ -358,6 +365,8 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         r.splits,
         r.merges,
         r.pruned,
+        r.near_edge,
+        r.folded,
         statuses,
         r.initial_triangles,
         r.triangles,
