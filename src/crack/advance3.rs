@@ -468,6 +468,15 @@ mod tests {
         check_valid(&c);
     }
 
+    /// A second crack standing across x = 1.25, y ∈ [−1.5, −0.3], z ∈ [−1, 1] (two triangles).
+    fn wall_across_lower_half() -> TriangleSurface {
+        TriangleSurface::new(
+            vec![Vector3::new(1.25, -1.5, -1.0), Vector3::new(1.25, -0.3, -1.0), Vector3::new(1.25, -0.3, 1.0), Vector3::new(1.25, -1.5, 1.0)],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap()
+    }
+
     /// A move that would fold the new surface back across the crack is refused: that
     /// node stays, the rest advance.
     #[test]
@@ -475,11 +484,7 @@ mod tests {
         let (mut c, mut refs) = strip(2);
         // A second crack standing across x = 1.25, y ∈ [−1.5, −0.3], z ∈ [−1, 1]: the new
         // surface of the front edge y ∈ [−1, 0] would cut it, that of y ∈ [0, 1] not.
-        let wall = TriangleSurface::new(
-            vec![Vector3::new(1.25, -1.5, -1.0), Vector3::new(1.25, -0.3, -1.0), Vector3::new(1.25, -0.3, 1.0), Vector3::new(1.25, -1.5, 1.0)],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-        .unwrap();
+        let wall = wall_across_lower_half();
         let moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
         let r = advance_front(&mut c, &mut refs, &moves, &[&wall]);
         assert_eq!(r.refused, vec![1, 3], "the nodes at y = −1 and 0 stay");
@@ -512,11 +517,7 @@ mod tests {
         check_valid(&c);
 
         let (mut c, mut refs) = strip(2);
-        let wall = TriangleSurface::new(
-            vec![Vector3::new(1.25, -1.5, -1.0), Vector3::new(1.25, -0.3, -1.0), Vector3::new(1.25, -0.3, 1.0), Vector3::new(1.25, -1.5, 1.0)],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-        .unwrap();
+        let wall = wall_across_lower_half();
         let moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
         let r = advance_front(&mut c, &mut refs, &moves, &[&wall]);
         assert_eq!((r.refused.clone(), r.folded.clone()), (vec![1, 3], vec![]));
