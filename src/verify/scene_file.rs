@@ -67,6 +67,8 @@ pub const FILES: &[(&str, &str)] = &[
     ("front_growth_3d.toml", include_str!("../../verification/front_growth_3d.toml")),
     ("front_sent_2d.toml", include_str!("../../verification/front_sent_2d.toml")),
     ("front_sent_3d.toml", include_str!("../../verification/front_sent_3d.toml")),
+    ("front_oblique_2d.toml", include_str!("../../verification/front_oblique_2d.toml")),
+    ("front_oblique_3d.toml", include_str!("../../verification/front_oblique_3d.toml")),
     ("front_sh_3d.toml", include_str!("../../verification/front_sh_3d.toml")),
     ("front_sh_ramp_3d.toml", include_str!("../../verification/front_sh_ramp_3d.toml")),
     ("growth_strip.toml", include_str!("../../verification/growth_strip.toml")),
