@@ -34,8 +34,10 @@
 //!   against the maximum hoop stress angle from Kassir & Sih's K's (−55.475°), the angle from the
 //!   node's own K's, the growth frame there, the onset time on the ramp and the turn of the new
 //!   surface toward the plane normal to the load (cases.toml). Measured: −56.90°, +56.48°; the
-//!   surface near the mirror plane tilts −16° (over-turned: nodes moving after a neighbour get a
-//!   frame normal tilted toward its kinked triangle). 200,960 particles × 348 steps, 3 min.
+//!   other nodes' first increments 56.0–58.5° from the plane (with the growth frame's normal
+//!   leaving out a leading neighbour's triangles; 56–67° before); the surface near the mirror
+//!   plane tilts −15° (past the load-normal plane: later increments zigzag ±10–25°, reading the
+//!   opening across the node's own kink). 200,960 particles × 348 steps, 3–5 min.
 //! * `dcb_growth_3d` (full; item 4): the DCB of `dcb_growth`, 4 mm wide with free faces,
 //!   restarts against corrected beam theory with the 3D front's plane-strain G_c.
 
@@ -819,11 +821,9 @@ pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
         };
         out.note(format!(
             "The other nodes within 25° of the mirror plane. Moved at the same check as their side's mirror-plane node: {}. Moved after a \
-             neighbour had: {}. The node normal of the frame is the mean of the unit normals of every triangle at the node \
-             (src/fracture/front3.rs front_frames_with), which after a neighbour's move includes its kinked new triangle: the frame is \
-             tilted toward the kink (≈ 14° at the first neighbour of θ = −180°: ψ − θ_c) while the opening one cell behind is still the \
-             flat crack's; the COD split in the tilted frame gives a smaller K_II/K_I and θ_c, but by less than the tilt (MTS is not \
-             rotation-covariant), so the direction over-turns.",
+             neighbour had: {}. The frame's normal leaves out the triangles that hold a leading neighbour (src/fracture/growth3.rs \
+             growth_normals); with them (the mean over every triangle at the node) the second group's frames were tilted ≈ 14° toward \
+             the neighbour's kink and their directions over-turned to 56–67° from the plane (θ_c 29.7–56.8° in the tilted frames).",
             fmt(true),
             fmt(false)
         ));
@@ -879,8 +879,8 @@ pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
         "Inclined penny crack (γ = 45°, a = 10 mm, h = 2 mm, half model): the first increment of every front node that grew, against the \
          front angle θ (0 and −180° on the mirror plane: pure I + II; the nodes within about 60° of θ = −90° did not grow): θ_c in the node's \
          growth frame and ψ, the direction's angle from the original crack plane, with the maximum hoop stress angle from Kassir & Sih's \
-         K_I, K_II (K_III not used by the criterion). The mirror-plane nodes grew first, on an untouched front; each later node's frame \
-         normal averages in the kinked triangles of the neighbours that moved before it, so its θ_c is smaller and ψ larger.",
+         K_I, K_II (K_III not used by the criterion). The mirror-plane nodes grew first, on an untouched front; ψ and θ_c coincide \
+         where the node's frame lies in the original plane (its normal leaves out a leading neighbour's kinked triangles).",
         PlotSpec::new("Inclined penny: first-increment kink angle along the front", "front angle θ (degrees)", "angle (degrees)"),
         Plot::Lines(vec![
             Series::line("θ_c (node's frame), θ < −90°", side(true, &|k| k.theta_c)).with_markers(),
