@@ -1201,7 +1201,7 @@ impl Scene3 {
                 return Err(invalid(format!("cracks[{i}].fracture.nodes"), format!("selects no front node (the crack has {} front edges)", crack.front.len())));
             }
             let domain = (fr.method == FrontMethod::Domain).then(|| crate::fracture::front3::DomainShape { inner: (fr.radius - fr.domain_ramp()) * h, outer: fr.radius * h, along: fr.domain_along() * h });
-            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, tangents: Default::default(), domain }));
+            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, tangents: Default::default(), normals: Default::default(), domain }));
         }
         Ok(out)
     }

@@ -202,6 +202,9 @@ pub struct FrontRequest {
     /// Front tangents that replace the front's own at these nodes (the growth driver's,
     /// [`crate::fracture::growth3`]); empty: every node's own.
     pub tangents: BTreeMap<u32, Vector3>,
+    /// Crack normals that replace the node's own (the mean of the unit normals of every
+    /// triangle at it) at these nodes (the growth driver's); empty: every node's own.
+    pub normals: BTreeMap<u32, Vector3>,
     /// J₁ by the equivalent domain integral over the particles ([`DomainShape`]) instead of
     /// the paper's circular contour; None: the contour (001 Fig. 2).
     pub domain: Option<DomainShape>,
@@ -370,6 +373,11 @@ pub fn front_frames(crack: &Crack3) -> Vec<(u32, FrontFrame)> {
 
 /// [`front_frames`] with the tangent of the nodes in `tangents` replaced by the given one.
 pub fn front_frames_with(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>) -> Vec<(u32, FrontFrame)> {
+    front_frames_with_normals(crack, tangents, &BTreeMap::new())
+}
+
+/// [`front_frames_with`] with the normal of the nodes in `normals` replaced by the given one.
+pub fn front_frames_with_normals(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>, normals: &BTreeMap<u32, Vector3>) -> Vec<(u32, FrontFrame)> {
     let s = &crack.surface;
     let mut tangent = front_tangents(crack, |p, q| s.vertices[q as usize] - s.vertices[p as usize]);
     for (v, t) in tangent.iter_mut() {
@@ -383,6 +391,11 @@ pub fn front_frames_with(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>) -> V
             if let Some(n) = normal.get_mut(v) {
                 *n += s.normal(t);
             }
+        }
+    }
+    for (v, n) in normal.iter_mut() {
+        if let Some(u) = normals.get(v) {
+            *n = *u;
         }
     }
     tangent.iter().filter_map(|(&v, t)| FrontFrame::from_tangent_normal(t, &normal[&v]).map(|f| (v, f))).collect()
@@ -707,7 +720,7 @@ impl Simulation<D3> {
     /// J and K at the requested front nodes of crack c after the last completed step.
     pub fn front_fracture(&self, c: usize, req: &FrontRequest) -> Vec<FrontResult> {
         let crack = &self.cracks[c];
-        let frames: HashMap<u32, FrontFrame> = front_frames_with(crack, &req.tangents).into_iter().collect();
+        let frames: HashMap<u32, FrontFrame> = front_frames_with_normals(crack, &req.tangents, &req.normals).into_iter().collect();
         let slab = self.grid.min_h();
         let mut cache = HashMap::new();
         let mut out = Vec::with_capacity(req.nodes.len());

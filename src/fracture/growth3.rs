@@ -31,8 +31,16 @@
 //!    and lost 1 − cos 32° = 0.15 of an increment of radius at its first move, 0.17 over
 //!    its life; the front's radius spread was 1.16 increments). With the staircase removed,
 //!    a circular front grows radially (tilts below 0.2°). A genuine difference of advance
-//!    along the front (e.g. an elliptical crack's) is seen less one increment at most. J
-//!    and K are evaluated in the same frame (the request's `tangents`).
+//!    along the front (e.g. an elliptical crack's) is seen less one increment at most.
+//!    x2 (the crack normal) is the mean of the unit normals of the node's triangles, by the
+//!    same rule ([`Simulation::growth_normals`]): the triangles holding a neighbour that
+//!    leads by more than half its last move are left out — made by that neighbour's move,
+//!    they carry its kink, not the surface behind the node. With them, on the inclined
+//!    penny (case `front_growth_inclined`, γ = 45°) a node beside a kinked neighbour had
+//!    its frame tilted ≈ 14° toward the kink while the opening one cell behind it was still
+//!    the flat crack's, and its first increment over-turned: 56–67° from the plane for
+//!    Kassir & Sih's 54–55.5° (now 56.0–58.5°, as the nodes on an untouched front). J and K
+//!    are evaluated in the same frame (the request's `tangents` and `normals`).
 //! 4. **Symmetry planes**: a grid-node plane x_c = const, within two cells of the node,
 //!    whose grid node nearest the node has a prescribed velocity component c (a roller or
 //!    wall, read as a symmetry plane as contact's mirror rule does, [`crate::contact`]).
@@ -475,7 +483,46 @@ impl Simulation<D3> {
     /// The J/K request of a growing crack: its current front nodes and their growth
     /// tangents ([`Simulation::growth_tangents`]).
     fn growth_request(&self, fg: &FrontGrowth) -> FrontRequest {
-        FrontRequest { nodes: fg.nodes.keys().copied().collect(), tangents: self.growth_tangents(fg), ..fg.request.clone() }
+        FrontRequest { nodes: fg.nodes.keys().copied().collect(), tangents: self.growth_tangents(fg), normals: self.growth_normals(fg), ..fg.request.clone() }
+    }
+
+    /// The crack normals of a growing crack's front nodes where a front neighbour leads by
+    /// more than half its own last move (the rule of [`Simulation::growth_tangents`]): the
+    /// mean of the unit normals of the node's triangles without those that hold the leading
+    /// neighbour's current crack particle. Such a triangle was made by the neighbour's move
+    /// and carries its kink, not the surface behind the node (with it, a node beside a
+    /// kinked neighbour had its frame tilted ≈ 14° toward the kink on the inclined penny,
+    /// case `front_growth_inclined`, and its first increment over-turned).
+    pub fn growth_normals(&self, fg: &FrontGrowth) -> BTreeMap<u32, Vector3> {
+        let crack = &self.cracks[fg.crack];
+        let s = &crack.surface;
+        let leads = |a: &NodeGrowth, b: &NodeGrowth| matches!((a.from, a.last_step()), (Some(_), Some(step)) if a.advance - b.advance > 0.5 * step);
+        let mut skip: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+        for &[p, q] in &crack.front {
+            if let (Some(np), Some(nq)) = (fg.nodes.get(&p), fg.nodes.get(&q)) {
+                if leads(nq, np) {
+                    skip.entry(p).or_default().push(q);
+                }
+                if leads(np, nq) {
+                    skip.entry(q).or_default().push(p);
+                }
+            }
+        }
+        let mut out: BTreeMap<u32, Vector3> = BTreeMap::new();
+        if skip.is_empty() {
+            return out;
+        }
+        for (t, tri) in s.triangles.iter().enumerate() {
+            for v in tri {
+                if let Some(sk) = skip.get(v) {
+                    if !tri.iter().any(|w| sk.contains(w)) {
+                        *out.entry(*v).or_insert_with(Vector3::zeros) += s.normal(t);
+                    }
+                }
+            }
+        }
+        out.retain(|_, n| n.norm() > 0.0);
+        out
     }
 
     /// The front tangents of a growing crack where they differ from the front's own

@@ -60,6 +60,7 @@ pub const FILES: &[(&str, &str)] = &[
     ("front_inclined_aligned_3d.toml", include_str!("../../verification/front_inclined_aligned_3d.toml")),
     ("front_penny_growth_3d.toml", include_str!("../../verification/front_penny_growth_3d.toml")),
     ("front_ellipse_growth_3d.toml", include_str!("../../verification/front_ellipse_growth_3d.toml")),
+    ("front_inclined_growth_3d.toml", include_str!("../../verification/front_inclined_growth_3d.toml")),
     ("dcb_growth_3d.toml", include_str!("../../verification/dcb_growth_3d.toml")),
     ("corner_crack_rod_3d.toml", include_str!("../../verification/corner_crack_rod_3d.toml")),
     ("tube_crack_3d.toml", include_str!("../../verification/tube_crack_3d.toml")),

@@ -29,6 +29,15 @@
 //!   12,640 particles × 696 steps, 58–85 s on 2 shared cores.
 //! * `front_growth_ellipse` (full; item 5): an elliptical crack b/a = 0.625 starts at the
 //!   minor-axis ends and its aspect ratio rises (Irwin's K; cases.toml).
+//! * `front_growth_inclined` (full; item 3): the inclined penny of `front_j_inclined` (γ = 45°)
+//!   with K_Ic = 2.5 MPa√mm: the first increments of the two mirror-plane nodes (pure I + II)
+//!   against the maximum hoop stress angle from Kassir & Sih's K's (−55.475°), the angle from the
+//!   node's own K's, the growth frame there, the onset time on the ramp and the turn of the new
+//!   surface toward the plane normal to the load (cases.toml). Measured: −56.90°, +56.48°; the
+//!   other nodes' first increments 56.0–58.5° from the plane (with the growth frame's normal
+//!   leaving out a leading neighbour's triangles; 56–67° before); the surface near the mirror
+//!   plane tilts −15° (past the load-normal plane: later increments zigzag ±10–25°, reading the
+//!   opening across the node's own kink). 200,960 particles × 348 steps, 3–5 min.
 //! * `dcb_growth_3d` (full; item 4): the DCB of `dcb_growth`, 4 mm wide with free faces,
 //!   restarts against corrected beam theory with the 3D front's plane-strain G_c.
 
@@ -507,6 +516,379 @@ pub fn run_dcb3(_variant: Variant) -> anyhow::Result<CaseOutput> {
          versus time, against corrected beam theory with the plane-strain G_c of the 3D front.",
         PlotSpec::new("3D DCB under opening control: crack length", "time (ms)", "crack length a (mm)"),
         Plot::Lines(vec![Series::line("MPM, mid-width front node", d.history.clone()), Series::reference("corrected beam theory, G = G_c", theory)]),
+    );
+    Ok(out)
+}
+
+/// Kink angle of the maximum hoop stress criterion in the closed form of 3d-references.md §2
+/// (Erdogan & Sih 1963; 001 eq. 20): θ₀ = 2 arctan[(1 − √(1 + 8r²))/(4r)], r = K_II/K_I
+/// (radians, from x1 toward x2; 0 for K_II = 0, ∓70.53° for K_I ≤ 0). Written independently of
+/// [`crate::fracture::criteria::hoop_stress_angle`], which takes the algebraically equal root
+/// 2 arctan(−2K_II/(K_I + √(K_I² + 8K_II²))).
+pub fn mts_kink(k1: f64, k2: f64) -> f64 {
+    if k2 == 0.0 {
+        return 0.0;
+    }
+    if k1 <= 0.0 {
+        return -k2.signum() * 2.0 * (8.0f64.sqrt() / 4.0).atan();
+    }
+    let r = k2 / k1;
+    2.0 * ((1.0 - (1.0 + 8.0 * r * r).sqrt()) / (4.0 * r)).atan()
+}
+
+/// K_eq of the maximum hoop stress criterion along θ (Erdogan & Sih 1963; 001 eq. 19):
+/// cos(θ/2)[K_I cos²(θ/2) − (3/2)K_II sin θ].
+pub fn mts_keq(k1: f64, k2: f64, theta: f64) -> f64 {
+    let c = (0.5 * theta).cos();
+    c * (k1 * c * c - 1.5 * k2 * theta.sin())
+}
+
+/// One front node's first increment on the inclined penny.
+#[derive(Clone, Debug)]
+pub struct FirstKink {
+    pub label: u32,
+    pub time: f64,
+    /// Front angle θ of the node (degrees, from s, positive about n; 0 … −180 on y ≥ 0).
+    pub theta_node: f64,
+    /// θ_c of the criterion (degrees) and the closed form on the same row's K_I, K_II.
+    pub theta_c: f64,
+    pub theta_c_from_k: f64,
+    /// The recorded direction of growth's angle from the original crack plane (degrees, from
+    /// the in-plane radial direction toward n).
+    pub psi: f64,
+    /// Kassir & Sih's MTS angle at θ_node (degrees).
+    pub theta_c_ref: f64,
+    pub k: [f64; 3],
+    pub k_eq: f64,
+}
+
+/// What the growing inclined penny measured.
+#[derive(Clone, Debug, Default)]
+pub struct InclinedGrowth {
+    /// Remote stress σ = F/(loaded particles × h²/4) and Kassir & Sih at θ = 0 (K_I, K_II amplitude).
+    pub sigma: f64,
+    pub k_ref: [f64; 3],
+    /// MTS kink and K_eq at θ = 0 from Kassir & Sih (degrees; MPa√mm at σ).
+    pub kink_ref: f64,
+    pub keq_ref: f64,
+    pub onset_ref: f64,
+    pub onset: f64,
+    /// First increment of every node that grew, in label order.
+    pub first: Vec<FirstKink>,
+    /// The first increments of the two mirror-plane nodes (θ = 0 first, then θ = −180°).
+    pub mirror: Vec<FirstKink>,
+    /// Each mirror-plane node's increments: (θ_c, ψ from the original plane) in degrees, sign as recorded.
+    pub mirror_sequence: Vec<(f64, Vec<(f64, f64)>)>,
+    /// Largest |θ_c − θ₀(K_I, K_II)| over every increment (degrees).
+    pub kink_from_k: f64,
+    /// Largest angle from the mirror plane among the nodes that grew at the first check where any grew.
+    pub first_from_mirror: f64,
+    pub first_labels: Vec<(u32, f64)>,
+    /// Tilt atan2(n_x, n_z) of the new surface within a cell of y = 0 (degrees): x < 0 (θ = 0) and x > 0
+    /// (θ = −180°), and the triangles' count on each side.
+    pub tilt: [f64; 2],
+    pub tilt_triangles: [usize; 2],
+    /// Nodes within 15° of θ = −90°: largest K_eq over all their checks, largest |K_III/K_I|, moves.
+    pub mode3_keq_max: f64,
+    pub mode3_ratio: f64,
+    pub mode3_moves: usize,
+    pub mode3_nodes: usize,
+    pub kic: f64,
+    pub nu: f64,
+    pub ramp: f64,
+    /// Nodes that ever grew, node moves, statuses other than growing at the end.
+    pub grown_nodes: usize,
+    pub increments: usize,
+    pub stopped: usize,
+    pub front_edges: usize,
+    pub seconds: f64,
+    pub particles: usize,
+    pub steps: u64,
+}
+
+/// Run `front_inclined_growth_3d.toml` (with overrides).
+pub fn inclined_growth(overrides: &[(&str, &str)]) -> anyhow::Result<InclinedGrowth> {
+    use crate::verify::cases::front3::{kassir_sih, InclinedGeometry, INCL_A, INCL_GAMMA_DEG};
+    let file = "front_inclined_growth_3d.toml";
+    let (s, sim, seconds) = run_scene3(file, overrides, false)?;
+    let g = sim.growth.as_ref().ok_or_else(|| anyhow::anyhow!("the inclined penny does not grow"))?;
+    let geom = InclinedGeometry::oblique();
+    let h = s.grid.cell[0];
+    // The crack as built (before any growth): the new surface is every triangle with a vertex
+    // beyond its vertices (new crack particles are appended, src/crack/advance3.rs).
+    let meshes: Vec<Option<crate::stl::ClosedMesh>> = s.bodies.iter().map(|_| None).collect();
+    let initial_vertices = s.crack_surfaces(&s.grid(), &meshes)?[0].surface.vertices.len();
+    let mat = &sim.materials[0];
+    let nu = mat.nu;
+    let kic = s.materials[0].toughness.as_ref().map(|t| t.kic).ok_or_else(|| anyhow::anyhow!("no toughness"))?;
+    let loaded = sim.particles.load.iter().filter(|&&l| l == 0).count();
+    let force = s.loads[0].force.ok_or_else(|| anyhow::anyhow!("the top load is a force"))?[2];
+    let ramp = s.loads[0].ramp;
+    let sigma = force / (loaded as f64 * 0.25 * h * h);
+    let gamma = INCL_GAMMA_DEG.to_radians();
+    let k_ref = kassir_sih(sigma, INCL_A, gamma, nu, 0.0);
+    let kink = mts_kink(k_ref[0], k_ref[1]);
+    let keq_ref = mts_keq(k_ref[0], k_ref[1], kink);
+    let mut out = InclinedGrowth {
+        sigma,
+        k_ref,
+        kink_ref: kink.to_degrees(),
+        keq_ref,
+        onset_ref: ramp * kic / keq_ref,
+        onset: f64::NAN,
+        kink_from_k: 0.0,
+        first_from_mirror: f64::NAN,
+        kic,
+        nu,
+        ramp,
+        seconds,
+        particles: sim.particles.len(),
+        steps: sim.step_count,
+        front_edges: sim.cracks[0].front.len(),
+        ..Default::default()
+    };
+    let from_mirror = |th: f64| th.abs().min(180.0 - th.abs());
+    let mut by_step: BTreeMap<u64, Vec<&NodeRecord>> = BTreeMap::new();
+    for r in &g.records {
+        by_step.entry(r.step).or_default().push(r);
+    }
+    for rows in by_step.values() {
+        let grown: Vec<&&NodeRecord> = rows.iter().filter(|r| r.grew).collect();
+        if !grown.is_empty() {
+            out.onset = rows[0].time;
+            out.first_labels = grown.iter().map(|r| (r.label, geom.theta(&r.x).to_degrees())).collect();
+            out.first_from_mirror = out.first_labels.iter().map(|&(_, t)| from_mirror(t)).fold(f64::NAN, f64::max);
+            break;
+        }
+    }
+    // Mirror-plane nodes: on y = 0 at their first record.
+    let mut first_row: BTreeMap<u32, &NodeRecord> = BTreeMap::new();
+    let mut first_grew: BTreeMap<u32, &NodeRecord> = BTreeMap::new();
+    let mut sequences: BTreeMap<u32, Vec<(f64, f64)>> = BTreeMap::new();
+    let mut mode3_labels = std::collections::BTreeSet::new();
+    for r in &g.records {
+        first_row.entry(r.label).or_insert(r);
+        if r.grew {
+            first_grew.entry(r.label).or_insert(r);
+            let d = first_row[&r.label].x - geom.centre;
+            let er = (d - geom.n * d.dot(&geom.n)).normalize();
+            sequences.entry(r.label).or_default().push((r.theta.to_degrees(), r.heading.dot(&geom.n).atan2(r.heading.dot(&er)).to_degrees()));
+            let from_k = mts_kink(r.k[0], r.k[1]);
+            out.kink_from_k = out.kink_from_k.max((r.theta - from_k).to_degrees().abs());
+        }
+        let th = geom.theta(&first_row[&r.label].x).to_degrees();
+        if (th + 90.0).abs() <= 15.0 {
+            mode3_labels.insert(r.label);
+            if r.k_eq.is_finite() {
+                out.mode3_keq_max = out.mode3_keq_max.max(r.k_eq);
+            }
+            if r.k[0] > 0.0 {
+                out.mode3_ratio = out.mode3_ratio.max((r.k[2] / r.k[0]).abs());
+            }
+            out.mode3_moves += r.grew as usize;
+        }
+    }
+    out.mode3_nodes = mode3_labels.len();
+    let first_of = |r: &NodeRecord| {
+        let th = geom.theta(&r.x);
+        let d = r.x - geom.centre;
+        let er = (d - geom.n * d.dot(&geom.n)).normalize();
+        let kr = kassir_sih(sigma, INCL_A, gamma, nu, th);
+        FirstKink {
+            label: r.label,
+            time: r.time,
+            theta_node: th.to_degrees(),
+            theta_c: r.theta.to_degrees(),
+            theta_c_from_k: mts_kink(r.k[0], r.k[1]).to_degrees(),
+            psi: r.heading.dot(&geom.n).atan2(r.heading.dot(&er)).to_degrees(),
+            theta_c_ref: mts_kink(kr[0], kr[1]).to_degrees(),
+            k: r.k,
+            k_eq: r.k_eq,
+        }
+    };
+    out.first = first_grew.values().map(|r| first_of(r)).collect();
+    let on_mirror = |l: u32| first_row[&l].x.y.abs() <= 1e-9 * INCL_A;
+    let mut mirror: Vec<FirstKink> = first_grew.values().filter(|r| on_mirror(r.label)).map(|r| first_of(r)).collect();
+    mirror.sort_by(|p, q| p.theta_node.abs().total_cmp(&q.theta_node.abs()));
+    out.mirror_sequence = mirror.iter().map(|m| (m.theta_node, sequences[&m.label].clone())).collect();
+    out.mirror = mirror;
+    out.grown_nodes = first_grew.len();
+    out.increments = g.records.iter().filter(|r| r.grew).count();
+    let mut last: BTreeMap<u32, &NodeRecord> = BTreeMap::new();
+    for r in &g.records {
+        last.insert(r.label, r);
+    }
+    out.stopped = last.values().filter(|r| r.status != crate::fracture::growth3::NodeStatus::Growing).count();
+    // The new surface near the mirror plane: area-weighted mean normal per side.
+    let crack = &sim.cracks[0];
+    let pts = &crack.surface.vertices;
+    let mut sums = [crate::dim::Vector3::zeros(); 2];
+    for t in &crack.surface.triangles {
+        if t.iter().all(|&v| (v as usize) < initial_vertices) {
+            continue;
+        }
+        let [a, b, c] = t.map(|v| pts[v as usize]);
+        let centroid = (a + b + c) / 3.0;
+        if centroid.y.abs() > h {
+            continue;
+        }
+        let side = usize::from(centroid.x > 0.0);
+        sums[side] += (b - a).cross(&(c - a));
+        out.tilt_triangles[side] += 1;
+    }
+    for side in 0..2 {
+        let n = if sums[side].z < 0.0 { -sums[side] } else { sums[side] };
+        out.tilt[side] = n.x.atan2(n.z).to_degrees();
+    }
+    Ok(out)
+}
+
+/// Case `front_growth_inclined` (full suite only; issue 17 verification item 3).
+pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
+    let r = inclined_growth(&[])?;
+    let mut out = CaseOutput::default();
+    let label = "γ = 45°, a/h = 5";
+    // θ = 0 as is, θ = −180° sign-reversed (the rotation about y maps it onto θ = 0).
+    let kinks: Vec<f64> = r.mirror.iter().map(|m| if m.theta_node.abs() < 90.0 { m.theta_c } else { -m.theta_c }).collect();
+    let worst = kinks.iter().copied().max_by(|p, q| (p - r.kink_ref).abs().total_cmp(&(q - r.kink_ref).abs())).unwrap_or(f64::NAN);
+    if r.mirror.len() == 2 {
+        out.measure("kink_theta0", label, worst, r.kink_ref);
+        let frame = r.mirror.iter().map(|m| (m.psi - m.theta_c).abs()).fold(0.0, f64::max);
+        out.measure("kink_frame", label, frame, 0.0);
+    } else {
+        // Both mirror-plane nodes must have grown for the kink checks to mean anything.
+        out.measure("kink_theta0", label, f64::NAN, r.kink_ref);
+        out.measure("kink_frame", label, f64::NAN, 0.0);
+    }
+    out.measure("kink_from_k", label, if r.increments > 0 { r.kink_from_k } else { f64::NAN }, 0.0);
+    out.measure("theta0_first", label, r.first_from_mirror, 0.0);
+    out.measure("onset", label, r.onset, r.onset_ref);
+    let tilt = if r.tilt_triangles.iter().all(|&n| n > 0) { r.tilt[0].abs().max(r.tilt[1].abs()) } else { f64::NAN };
+    out.measure("turns_to_load_normal", label, tilt, 0.0);
+    out.measure("grown", label, r.increments as f64, 0.0);
+    out.note(format!(
+        "σ = {:.6} MPa; Kassir & Sih at θ = 0: K_I = {:.4}, K_II = {:.4} MPa√mm (r = {:.5}); MTS kink {:.3}°, K_eq = {:.4}; K_Ic = {} → onset \
+         {:.4} ms on the {} ms ramp (quasi-static). Measured onset {:.4} ms ({:+.1} %), first nodes (label, θ°) {:?}.",
+        r.sigma,
+        r.k_ref[0],
+        r.k_ref[1],
+        r.k_ref[1] / r.k_ref[0],
+        r.kink_ref,
+        r.keq_ref,
+        r.kic,
+        r.onset_ref,
+        r.ramp,
+        r.onset,
+        100.0 * (r.onset / r.onset_ref - 1.0),
+        r.first_labels.iter().map(|(l, t)| (*l, (t * 10.0).round() / 10.0)).collect::<Vec<_>>()
+    ));
+    for m in &r.mirror {
+        out.note(format!(
+            "Mirror-plane node {} (θ = {:.1}°): first increment at t = {:.4} ms, K_I = {:.5}, K_II = {:.5}, K_III = {:.3e} (K_II/K_I = {:.4}, \
+             {:+.1} % from Kassir & Sih's {:.4}), K_eq = {:.4}; θ_c = {:.3}° (closed form on these K's {:.3}°, on Kassir & Sih's {:.3}°); \
+             direction {:.3}° from the original plane.",
+            m.label,
+            m.theta_node,
+            m.time,
+            m.k[0],
+            m.k[1],
+            m.k[2],
+            m.k[1] / m.k[0],
+            100.0 * ((m.k[1] / m.k[0]).abs() / (r.k_ref[1] / r.k_ref[0]) - 1.0),
+            r.k_ref[1] / r.k_ref[0],
+            m.k_eq,
+            m.theta_c,
+            m.theta_c_from_k,
+            m.theta_c_ref,
+            m.psi
+        ));
+    }
+    {
+        // The other nodes near the mirror plane: those that moved at the same check as their side's
+        // mirror-plane node (an untouched front) and those that moved after a neighbour had (their
+        // frames tilted by its new triangles).
+        let from_mirror = |k: &FirstKink| k.theta_node.abs().min(180.0 - k.theta_node.abs());
+        let mirror_time = |k: &FirstKink| r.mirror.iter().find(|m| (m.theta_node < -90.0) == (k.theta_node < -90.0)).map_or(f64::NAN, |m| m.time);
+        let near: Vec<&FirstKink> = r.first.iter().filter(|k| from_mirror(k) <= 25.0 && from_mirror(k) > 1e-6).collect();
+        let range = |with: bool, f: &dyn Fn(&FirstKink) -> f64| {
+            near.iter().filter(|k| (k.time == mirror_time(k)) == with).map(|k| f(k)).fold((0usize, f64::INFINITY, f64::NEG_INFINITY), |(n, l, h), v| (n + 1, l.min(v), h.max(v)))
+        };
+        let fmt = |with: bool| {
+            let (n, tl, th) = range(with, &|k| k.theta_c.abs());
+            let (_, pl, ph) = range(with, &|k| k.psi.abs());
+            let (_, rl, rh) = range(with, &|k| k.theta_c_ref.abs());
+            format!("{n} nodes: |θ_c| {tl:.1}–{th:.1}° in their frames, |ψ| {pl:.1}–{ph:.1}° from the original plane, Kassir & Sih's MTS {rl:.1}–{rh:.1}°")
+        };
+        out.note(format!(
+            "The other nodes within 25° of the mirror plane. Moved at the same check as their side's mirror-plane node: {}. Moved after a \
+             neighbour had: {}. The frame's normal leaves out the triangles that hold a leading neighbour (src/fracture/growth3.rs \
+             growth_normals); with them (the mean over every triangle at the node) the second group's frames were tilted ≈ 14° toward \
+             the neighbour's kink and their directions over-turned to 56–67° from the plane (θ_c 29.7–56.8° in the tilted frames).",
+            fmt(true),
+            fmt(false)
+        ));
+    }
+    for (th, seq) in &r.mirror_sequence {
+        out.note(format!(
+            "Mirror-plane node at θ = {th:.1}°: its successive increments (θ_c in its frame, ψ from the original plane) {}.",
+            seq.iter().map(|(t, p)| format!("({t:.2}°, {p:.2}°)")).collect::<Vec<_>>().join(", ")
+        ));
+    }
+    out.note(format!(
+        "New surface within one cell of y = 0 at the end: tilt atan2(n_x, n_z) = {:.2}° on the θ = 0 side ({} triangles), {:.2}° on the \
+         θ = −180° side ({} triangles); the original crack 45°, the first MTS increment −10.47° (Kassir & Sih). {} node moves by {} nodes, \
+         {} nodes stopped; {} front edges at the end. Nodes within 15° of θ = −90° (K_III-dominated, {} nodes): largest K_eq {:.4} against \
+         K_Ic = {} (K_eq = K_I there: the criterion leaves K_III out, docs/scene.md), largest |K_III/K_I| {:.3}, {} moves — no twist is \
+         modelled (Kassir & Sih's twist angle there 38.1°, 3d-references.md §2). Run {} particles × {} steps, {:.1} s.",
+        r.tilt[0],
+        r.tilt_triangles[0],
+        r.tilt[1],
+        r.tilt_triangles[1],
+        r.increments,
+        r.grown_nodes,
+        r.stopped,
+        r.front_edges,
+        r.mode3_nodes,
+        r.mode3_keq_max,
+        r.kic,
+        r.mode3_ratio,
+        r.mode3_moves,
+        r.particles,
+        r.steps,
+        r.seconds
+    ));
+    let mut csv = String::from("label,time,theta_node_deg,k1,k2,k3,k_eq,theta_c_deg,theta_c_from_k_deg,theta_c_kassir_sih_deg,direction_from_plane_deg\n");
+    for f in &r.first {
+        csv.push_str(&format!("{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}\n", f.label, f.time, f.theta_node, f.k[0], f.k[1], f.k[2], f.k_eq, f.theta_c, f.theta_c_from_k, f.theta_c_ref, f.psi));
+    }
+    out.data("front_growth_inclined_first.csv", "Inclined penny: the first increment of every front node that grew — θ, K's, K_eq, θ_c, the closed form on the node's K's and on Kassir & Sih's, the direction's angle from the original plane.", csv);
+    let mut first = r.first.clone();
+    first.sort_by(|p, q| p.theta_node.total_cmp(&q.theta_node));
+    // The nodes near θ = −90° do not grow: one curve per side, no line across the gap.
+    let side = |far: bool, f: &dyn Fn(&FirstKink) -> f64| first.iter().filter(|k| (k.theta_node < -90.0) == far).map(|k| (k.theta_node, f(k))).collect::<Vec<_>>();
+    let nu = r.nu;
+    let reference: Vec<(f64, f64)> = (0..=180)
+        .map(|k| -(k as f64))
+        .map(|t| {
+            let k = crate::verify::cases::front3::kassir_sih(r.sigma, crate::verify::cases::front3::INCL_A, crate::verify::cases::front3::INCL_GAMMA_DEG.to_radians(), nu, t.to_radians());
+            (t, mts_kink(k[0], k[1]).to_degrees())
+        })
+        .collect();
+    out.figure(
+        "front_growth_inclined_kink.png",
+        "Inclined penny crack (γ = 45°, a = 10 mm, h = 2 mm, half model): the first increment of every front node that grew, against the \
+         front angle θ (0 and −180° on the mirror plane: pure I + II; the nodes within about 60° of θ = −90° did not grow): θ_c in the node's \
+         growth frame and ψ, the direction's angle from the original crack plane, with the maximum hoop stress angle from Kassir & Sih's \
+         K_I, K_II (K_III not used by the criterion). The mirror-plane nodes grew first, on an untouched front; ψ and θ_c coincide \
+         where the node's frame lies in the original plane (its normal leaves out a leading neighbour's kinked triangles).",
+        PlotSpec::new("Inclined penny: first-increment kink angle along the front", "front angle θ (degrees)", "angle (degrees)"),
+        Plot::Lines(vec![
+            Series::line("θ_c (node's frame), θ < −90°", side(true, &|k| k.theta_c)).with_markers(),
+            Series::line("θ_c (node's frame), θ > −90°", side(false, &|k| k.theta_c)).with_markers(),
+            Series::line("ψ (from the original plane), θ < −90°", side(true, &|k| k.psi)).with_markers(),
+            Series::line("ψ (from the original plane), θ > −90°", side(false, &|k| k.psi)).with_markers(),
+            Series::reference("MTS on Kassir & Sih's K's", reference),
+        ]),
     );
     Ok(out)
 }

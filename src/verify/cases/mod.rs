@@ -78,6 +78,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "front_growth_slab", run: growth3::run_slab },
     Case { name: "front_growth_penny", run: growth3::run_penny },
     Case { name: "front_growth_ellipse", run: growth3::run_ellipse },
+    Case { name: "front_growth_inclined", run: growth3::run_inclined },
     Case { name: "dcb_growth_3d", run: growth3::run_dcb3 },
     Case { name: "corner_crack_rod", run: growth3_examples::run_rod },
     Case { name: "tube_crack", run: growth3_examples::run_tube },
