@@ -368,16 +368,12 @@ pub fn front_tangents(crack: &Crack3, span: impl Fn(u32, u32) -> Vector3) -> BTr
 /// a front edge (module doc). A node where the frame is undefined (front folded back on
 /// itself) is left out.
 pub fn front_frames(crack: &Crack3) -> Vec<(u32, FrontFrame)> {
-    front_frames_with(crack, &BTreeMap::new())
+    front_frames_with(crack, &BTreeMap::new(), &BTreeMap::new())
 }
 
-/// [`front_frames`] with the tangent of the nodes in `tangents` replaced by the given one.
-pub fn front_frames_with(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>) -> Vec<(u32, FrontFrame)> {
-    front_frames_with_normals(crack, tangents, &BTreeMap::new())
-}
-
-/// [`front_frames_with`] with the normal of the nodes in `normals` replaced by the given one.
-pub fn front_frames_with_normals(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>, normals: &BTreeMap<u32, Vector3>) -> Vec<(u32, FrontFrame)> {
+/// [`front_frames`] with the tangent of the nodes in `tangents` and the normal of the nodes
+/// in `normals` replaced by the given ones.
+pub fn front_frames_with(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>, normals: &BTreeMap<u32, Vector3>) -> Vec<(u32, FrontFrame)> {
     let s = &crack.surface;
     let mut tangent = front_tangents(crack, |p, q| s.vertices[q as usize] - s.vertices[p as usize]);
     for (v, t) in tangent.iter_mut() {
@@ -720,7 +716,7 @@ impl Simulation<D3> {
     /// J and K at the requested front nodes of crack c after the last completed step.
     pub fn front_fracture(&self, c: usize, req: &FrontRequest) -> Vec<FrontResult> {
         let crack = &self.cracks[c];
-        let frames: HashMap<u32, FrontFrame> = front_frames_with_normals(crack, &req.tangents, &req.normals).into_iter().collect();
+        let frames: HashMap<u32, FrontFrame> = front_frames_with(crack, &req.tangents, &req.normals).into_iter().collect();
         let slab = self.grid.min_h();
         let mut cache = HashMap::new();
         let mut out = Vec::with_capacity(req.nodes.len());
