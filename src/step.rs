@@ -115,6 +115,9 @@ impl<S: Dimension> Simulation<S> {
             Scheme::Usl | Scheme::Musl => {}
         }
         self.task3_forces();
+        if self.growth.is_some() {
+            S::hold_released(self);
+        }
         self.task4_update_momenta()?;
         self.task5_update_particles();
         match scheme {
