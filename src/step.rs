@@ -217,8 +217,13 @@ impl<S: Dimension> Simulation<S> {
         let with_cracks = self.has_cracks();
         let nf = self.nodes.fields.len();
         let mut sums = std::mem::take(&mut self.scratch.mass);
-        let this = &*self;
         let avx = crate::simd::enabled();
+        let mut mv = std::mem::take(&mut self.scratch.mass_momentum);
+        let fast3 = if avx { fast3d(self) } else { None };
+        if let Some(d3) = fast3 {
+            crate::gather3::fill_mass_momentum(d3, &mut mv);
+        }
+        let this = &*self;
         this.nodes
             .active
             .par_iter()
@@ -227,11 +232,21 @@ impl<S: Dimension> Simulation<S> {
             .map(|(a, &node)| {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MASS];
                 match (with_cracks, this.is_split(node)) {
-                    (false, _) | (true, false) => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
+                    (false, _) | (true, false) => match fast3 {
+                        // SAFETY: fast3 is Some only when the CPU has AVX2.
+                        Some(d3) => hinted(
+                            hint,
+                            || unsafe { crate::gather3::node_mass(d3, &mv, a) }.map(crate::gather3::same),
+                            || simd!(avx, avx2::node_mass::<S, Fast3, false, false>(this, a), this.node_mass::<Fast3, false, false>(a)),
+                            || simd!(avx, avx2::node_mass::<S, Exact, false, false>(this, a), this.node_mass::<Exact, false, false>(a)),
+                        ),
+                        None => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
+                    },
                     (true, true) => gather_hinted!(avx, false, hint, this.node_mass::<true, true>(a)),
                 }
             })
             .collect_into_vec(&mut sums);
+        self.scratch.mass_momentum = mv;
         let nodes = &mut self.nodes;
         for (&node, g) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
@@ -407,8 +422,16 @@ impl<S: Dimension> Simulation<S> {
         let mut grads = std::mem::take(&mut self.scratch.grad_v);
         let this = &*self;
         let avx = crate::simd::enabled();
+        let fast3 = if avx { fast3d(this) } else { None };
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => gather!(avx, avx, this.velocity_gradient::<false>(i)),
+            false => match fast3 {
+                // SAFETY: fast3 is Some only when the CPU has AVX2.
+                Some(d3) => fast_or_exact(
+                    || unsafe { crate::gather3::velocity_gradient(d3, i) }.map(crate::gather3::same),
+                    || simd!(avx, avx2::velocity_gradient::<S, Exact, false>(this, i), this.velocity_gradient::<Exact, false>(i)),
+                ),
+                None => gather!(avx, avx, this.velocity_gradient::<false>(i)),
+            },
             true => gather!(avx, false, this.velocity_gradient::<true>(i)),
         };
         // Velocity gradients first (reading the grid), then the particle updates.
@@ -439,9 +462,14 @@ impl<S: Dimension> Simulation<S> {
             self.mark_loaded_nodes(has_body);
         }
         let mut sums = std::mem::take(&mut self.scratch.force);
+        let avx = crate::simd::enabled();
+        let mut cols = std::mem::take(&mut self.scratch.stress_columns);
+        let fast3 = if avx { fast3d(self) } else { None };
+        if let Some(d3) = fast3 {
+            crate::gather3::fill_stress_columns(d3, &mut cols);
+        }
         let this = &*self;
         let loaded = &self.scratch.loaded_nodes;
-        let avx = crate::simd::enabled();
         this.nodes
             .active
             .par_iter()
@@ -451,6 +479,13 @@ impl<S: Dimension> Simulation<S> {
                 let ext = has_ext && loaded[a];
                 let hint = &this.scratch.gather_hints[node as usize][HINT_FORCE];
                 match this.is_split(node) {
+                    false if !ext && fast3.is_some() => hinted(
+                        hint,
+                        // SAFETY: fast3 is Some only when the CPU has AVX2.
+                        || unsafe { crate::gather3::node_forces(fast3.unwrap(), &cols, a) }.map(crate::gather3::same),
+                        || simd!(avx, avx2::node_forces::<S, Fast3, false>(this, a, ext, has_body), this.node_forces::<Fast3, false>(a, ext, has_body)),
+                        || simd!(avx, avx2::node_forces::<S, Exact, false>(this, a, ext, has_body), this.node_forces::<Exact, false>(a, ext, has_body)),
+                    ),
                     false => gather_hinted!(avx, avx, hint, this.node_forces::<false>(a, ext, has_body)),
                     true => gather_hinted!(avx, false, hint, this.node_forces::<true>(a, ext, has_body)),
                 }
@@ -470,6 +505,7 @@ impl<S: Dimension> Simulation<S> {
             }
         }
         self.scratch.force = sums;
+        self.scratch.stress_columns = cols;
         // Fixed directions do not accelerate.
         for &node in &self.bcs.nodes {
             let i = node as usize;
@@ -569,8 +605,16 @@ impl<S: Dimension> Simulation<S> {
         let mut incs = std::mem::take(&mut self.scratch.increments);
         let this = &*self;
         let avx = crate::simd::enabled();
+        let fast3 = if avx { fast3d(this) } else { None };
         let increments = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => gather!(avx, avx, this.particle_increments::<false>(i)),
+            false => match fast3 {
+                // SAFETY: fast3 is Some only when the CPU has AVX2.
+                Some(d3) => fast_or_exact(
+                    || unsafe { crate::gather3::particle_increments(d3, i) }.map(crate::gather3::same),
+                    || simd!(avx, avx2::particle_increments::<S, Exact, false>(this, i), this.particle_increments::<Exact, false>(i)),
+                ),
+                None => gather!(avx, avx, this.particle_increments::<false>(i)),
+            },
             true => gather!(avx, false, this.particle_increments::<true>(i)),
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
@@ -619,8 +663,13 @@ impl<S: Dimension> Simulation<S> {
     fn task6c_reextrapolate(&mut self) -> Result<(), CheckError> {
         let nf = self.nodes.fields.len();
         let mut sums = std::mem::take(&mut self.scratch.momentum);
-        let this = &*self;
         let avx = crate::simd::enabled();
+        let mut mv = std::mem::take(&mut self.scratch.mass_momentum);
+        let fast3 = if avx { fast3d(self) } else { None };
+        if let Some(d3) = fast3 {
+            crate::gather3::fill_mass_momentum(d3, &mut mv);
+        }
+        let this = &*self;
         this.nodes
             .active
             .par_iter()
@@ -629,6 +678,13 @@ impl<S: Dimension> Simulation<S> {
             .map(|(a, &node)| {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MOMENTUM];
                 match this.is_split(node) {
+                    false if fast3.is_some() => hinted(
+                        hint,
+                        // SAFETY: fast3 is Some only when the CPU has AVX2.
+                        || unsafe { crate::gather3::node_momentum(fast3.unwrap(), &mv, a) }.map(crate::gather3::same),
+                        || simd!(avx, avx2::node_momentum::<S, Fast3, false>(this, a), this.node_momentum::<Fast3, false>(a)),
+                        || simd!(avx, avx2::node_momentum::<S, Exact, false>(this, a), this.node_momentum::<Exact, false>(a)),
+                    ),
                     false => gather_hinted!(avx, avx, hint, this.node_momentum::<false>(a)),
                     true => gather_hinted!(avx, false, hint, this.node_momentum::<true>(a)),
                 }
@@ -644,6 +700,7 @@ impl<S: Dimension> Simulation<S> {
             }
         }
         self.scratch.momentum = sums;
+        self.scratch.mass_momentum = mv;
         self.apply_momentum_bcs();
         if self.has_cracks() {
             S::contact_momenta(self)?;
@@ -1089,6 +1146,20 @@ mod avx2 {
     }
 }
 
+/// The simulation as a 3D one whose crack-free gathers run the explicit AVX2 code of
+/// [`crate::gather3`] (the caller has checked that the CPU has AVX2), or None (2D).
+#[inline(always)]
+fn fast3d<S: Dimension>(sim: &Simulation<S>) -> Option<&Simulation<crate::dim::D3>> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        crate::gather3::as_d3(sim)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        None
+    }
+}
+
 /// Smallest number of particles a parallel task takes (keeps rayon's overhead small).
 pub(crate) const PARTICLE_CHUNK: usize = 256;
 /// Smallest number of active nodes a parallel task takes.
@@ -1152,6 +1223,10 @@ pub struct Scratch<S: Space> {
     pub momentum: Vec<[S::Vector; MAX_FIELDS]>,
     pub grad_v: Vec<S::Tensor>,
     pub increments: Vec<(S::Vector, S::Vector)>,
+    /// 3D gathers ([`crate::gather3`]): per particle (m, m·v) for Tasks 1 and 6c, and the
+    /// stress columns and −V for Task 3.
+    pub mass_momentum: Vec<[f64; 4]>,
+    pub stress_columns: Vec<[[f64; 4]; 4]>,
     /// CSR build: pairs per active node of each particle chunk, then the chunks' write cursors.
     pub chunk_counts: Vec<Vec<u32>>,
     /// CSR build: the nodes each particle chunk touched first.
@@ -1205,6 +1280,8 @@ impl<S: Space> Default for Scratch<S> {
             momentum: Vec::new(),
             grad_v: Vec::new(),
             increments: Vec::new(),
+            mass_momentum: Vec::new(),
+            stress_columns: Vec::new(),
             chunk_counts: Vec::new(),
             chunk_nodes: Vec::new(),
             marks: Vec::new(),
