@@ -1093,10 +1093,19 @@ fn hinted<T>(hint: &AtomicU8, fast: impl FnOnce() -> Option<T>, three: impl FnOn
             return v;
         }
         hint.store(HINT_STEPS, Ordering::Relaxed);
-        return exact().expect("ExactSum always certifies its sums");
+        return rerun(exact).expect("ExactSum always certifies its sums");
     }
     hint.store(steps - 1, Ordering::Relaxed);
-    three().or_else(exact).expect("ExactSum always certifies its sums")
+    three().or_else(|| rerun(exact)).expect("ExactSum always certifies its sums")
+}
+
+/// Run a gather's exact rerun out of line: its [`Exact`] accumulators keep their terms
+/// (tens of kilobytes of stack), which inlined into the caller made every call of the
+/// gather probe that stack, page by page, rerun or not.
+#[cold]
+#[inline(never)]
+fn rerun<T>(exact: impl FnOnce() -> Option<T>) -> Option<T> {
+    exact()
 }
 
 /// The fast sums if they certify their results, else the gather again with [`Exact`]
@@ -1104,7 +1113,7 @@ fn hinted<T>(hint: &AtomicU8, fast: impl FnOnce() -> Option<T>, three: impl FnOn
 /// Both give the correctly rounded sums, so the bits do not depend on which was used.
 #[inline(always)]
 fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
-    fast().or_else(exact).expect("ExactSum always certifies its sums")
+    fast().or_else(|| rerun(exact)).expect("ExactSum always certifies its sums")
 }
 
 /// Copies of the gathers (fast and rerun, `K`) and of the shape functions compiled with
