@@ -302,24 +302,33 @@ impl<S: Dimension> Simulation<S> {
         scratch.chunk_nodes.resize_with(chunks, Vec::new);
         let (count, node) = (&pairs.count, &pairs.node);
         let stride = S::MAX_NODES;
-        let chunk_pairs = |c: usize| {
-            (c * per_chunk..((c + 1) * per_chunk).min(np)).flat_map(move |i| (i * stride..i * stride + count[i] as usize).map(move |k| (k, node[k] as usize)))
-        };
+        // Every pair (k, node) of chunk c, in order: nested loops over the particles and
+        // their node slices (a flat_map iterator costs about twice the instructions).
+        #[inline(always)]
+        fn for_chunk_pairs(count: &[u8], node: &[u32], stride: usize, range: std::ops::Range<usize>, mut f: impl FnMut(usize, usize)) {
+            for (i, &n) in count[range.clone()].iter().enumerate() {
+                let base = (range.start + i) * stride;
+                for (j, &nd) in node[base..base + n as usize].iter().enumerate() {
+                    f(base + j, nd as usize);
+                }
+            }
+        }
+        let chunk = |c: usize| c * per_chunk..((c + 1) * per_chunk).min(np);
         // The nodes each chunk touches first.
-        let marks = &scratch.marks;
+        let marks = &scratch.marks[..];
         scratch.chunk_nodes.par_iter_mut().enumerate().for_each(|(c, list)| {
             list.clear();
             // Which chunk claims a node first is a race between threads, so a list's
             // length varies from step to step: reserve its bound once, so the step never
             // allocates (tests/three_d_no_alloc.rs).
             list.reserve(nn.min(per_chunk * stride));
-            for (_, n) in chunk_pairs(c) {
+            for_chunk_pairs(count, node, stride, chunk(c), |_, n| {
                 // A plain load first: most pairs meet a node already marked, and the
                 // swap (a locked exchange) is needed only to claim a new one.
                 if !marks[n].load(Ordering::Relaxed) && !marks[n].swap(true, Ordering::Relaxed) {
                     list.push(n as u32);
                 }
-            }
+            });
         });
         // The active nodes, ascending, and their compact indices.
         let active = &mut self.nodes.active;
@@ -338,9 +347,10 @@ impl<S: Dimension> Simulation<S> {
         scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, counts)| {
             counts.clear();
             counts.resize(na, 0);
-            for (_, n) in chunk_pairs(c) {
-                counts[slot[n] as usize] += 1;
-            }
+            // Slices, not the Vecs: a store through a slice cannot change a Vec's pointer or
+            // length, so they are not reloaded per pair.
+            let (counts, slot) = (&mut counts[..], &slot[..]);
+            for_chunk_pairs(count, node, stride, chunk(c), |_, n| counts[slot[n] as usize] += 1);
         });
         // Offsets: the a-th active node's pairs are items[start[a]..start[a+1]], chunk by
         // chunk; the counts become each chunk's write cursors.
@@ -361,11 +371,12 @@ impl<S: Dimension> Simulation<S> {
         }
         let slots = &scratch.slots;
         scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, cursor)| {
-            for (k, n) in chunk_pairs(c) {
+            let (cursor, slot, slots) = (&mut cursor[..], &slot[..], &slots[..]);
+            for_chunk_pairs(count, node, stride, chunk(c), |k, n| {
                 let a = slot[n] as usize;
                 slots[cursor[a] as usize].store(k as u32, Ordering::Relaxed);
                 cursor[a] += 1;
-            }
+            });
         });
         pairs.items.resize(total, 0);
         pairs.items.par_iter_mut().zip(&slots[..total]).with_min_len(4096).for_each(|(item, slot)| *item = slot.load(Ordering::Relaxed));
