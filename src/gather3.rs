@@ -52,16 +52,25 @@ pub(crate) fn same<A: 'static + Copy, B: 'static + Copy>(x: A) -> B {
     unsafe { std::mem::transmute_copy(&x) }
 }
 
-/// Four lanes of [`FastSum`]: running sum, compensation, Σ|x|, min |x|.
+/// Four lanes of a certified compensated sum.
+pub(crate) trait Sum4: Copy {
+    unsafe fn new() -> Self;
+    unsafe fn add(&mut self, x: __m256d);
+    /// The certified sums of the first `lanes` lanes of each accumulator in `acc` (n
+    /// terms each), or None if one of them is not certified.
+    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Self; V]) -> Option<[[f64; 4]; V]>;
+}
+
+/// Four lanes of [`crate::exact::FastSum`]: running sum, compensation, Σ|x|, min |x|.
 #[derive(Clone, Copy)]
-struct Acc4 {
+pub(crate) struct Acc4 {
     s: __m256d,
     c: __m256d,
     a: __m256d,
     m: __m256d,
 }
 
-impl Acc4 {
+impl Sum4 for Acc4 {
     #[inline(always)]
     unsafe fn new() -> Self {
         Acc4 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
@@ -80,6 +89,83 @@ impl Acc4 {
         self.a = _mm256_add_pd(self.a, ax);
         // minpd(ax, m) = ax < m ? ax : m, the select of FastSum::add (m kept for a NaN ax).
         self.m = _mm256_min_pd(ax, self.m);
+    }
+
+    /// As `FastSum::certified` gives them ([`certify4`]).
+    #[inline(always)]
+    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4; V]) -> Option<[[f64; 4]; V]> {
+        let mut out = [[0.0; 4]; V];
+        if n == 0 {
+            return Some(out);
+        }
+        if n > 1 << 20 {
+            return None;
+        }
+        let nf = n as f64;
+        let n2 = _mm256_set1_pd(nf * nf);
+        let want = (1 << lanes) - 1;
+        let mut ok = true;
+        for (o, a) in out.iter_mut().zip(acc) {
+            let (sum, mask) = certify4(a, n2);
+            _mm256_storeu_pd(o.as_mut_ptr(), sum);
+            ok &= mask & want == want;
+        }
+        ok.then_some(out)
+    }
+}
+
+/// Four lanes of [`crate::exact::FastSum3`] (the three-level sums that certify the
+/// cancelling sums of mirror-plane nodes): running sum, compensation c, its error d,
+/// Σ|x|, the smallest non-zero |x|; `FastSum3::add`'s operations in its order.
+#[derive(Clone, Copy)]
+pub(crate) struct Acc4x3 {
+    s: __m256d,
+    c: __m256d,
+    d: __m256d,
+    a: __m256d,
+    m: __m256d,
+}
+
+impl Sum4 for Acc4x3 {
+    #[inline(always)]
+    unsafe fn new() -> Self {
+        Acc4x3 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), d: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
+    }
+
+    #[inline(always)]
+    unsafe fn add(&mut self, x: __m256d) {
+        let s0 = self.s;
+        let s = _mm256_add_pd(s0, x);
+        let bb = _mm256_sub_pd(s, s0);
+        let t = _mm256_add_pd(_mm256_sub_pd(s0, _mm256_sub_pd(s, bb)), _mm256_sub_pd(x, bb));
+        self.s = s;
+        let c0 = self.c;
+        let c = _mm256_add_pd(c0, t);
+        let bc = _mm256_sub_pd(c, c0);
+        self.d = _mm256_add_pd(self.d, _mm256_add_pd(_mm256_sub_pd(c0, _mm256_sub_pd(c, bc)), _mm256_sub_pd(t, bc)));
+        self.c = c;
+        let ax = _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
+        self.a = _mm256_add_pd(self.a, ax);
+        // ax < m && ax != 0 ? ax : m.
+        let take = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(ax, self.m), _mm256_cmp_pd::<_CMP_NEQ_UQ>(ax, _mm256_setzero_pd()));
+        self.m = _mm256_blendv_pd(self.m, ax, take);
+    }
+
+    /// `FastSum3::certified`, lane by lane (`certify`, else `certify3`).
+    #[inline(always)]
+    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4x3; V]) -> Option<[[f64; 4]; V]> {
+        let mut out = [[0.0; 4]; V];
+        for (o, x) in out.iter_mut().zip(acc) {
+            let mut p = [[0.0; 4]; 5];
+            for (q, v) in p.iter_mut().zip([x.s, x.c, x.d, x.a, x.m]) {
+                _mm256_storeu_pd(q.as_mut_ptr(), v);
+            }
+            for k in 0..lanes {
+                let n = n as u32;
+                o[k] = crate::exact::certify(p[0][k], p[1][k], p[3][k], p[4][k], n).or_else(|| crate::exact::certify3(p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], n))?;
+            }
+        }
+        Some(out)
     }
 }
 
@@ -114,29 +200,6 @@ unsafe fn certify4(acc: &Acc4, n2: __m256d) -> (__m256d, i32) {
     (out, _mm256_movemask_pd(ok))
 }
 
-/// The certified sums of the first `lanes` lanes of each accumulator in `acc` (n terms
-/// each), as `FastSum::certified` gives them, or None if one of them is not certified.
-#[inline(always)]
-unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4; V]) -> Option<[[f64; 4]; V]> {
-    let mut out = [[0.0; 4]; V];
-    if n == 0 {
-        return Some(out);
-    }
-    if n > 1 << 20 {
-        return None;
-    }
-    let nf = n as f64;
-    let n2 = _mm256_set1_pd(nf * nf);
-    let want = (1 << lanes) - 1;
-    let mut ok = true;
-    for (o, a) in out.iter_mut().zip(acc) {
-        let (sum, mask) = certify4(a, n2);
-        _mm256_storeu_pd(o.as_mut_ptr(), sum);
-        ok &= mask & want == want;
-    }
-    ok.then_some(out)
-}
-
 /// Load a 3-vector as (x, y, z, 0).
 #[inline(always)]
 unsafe fn load3(p: *const f64) -> __m256d {
@@ -168,18 +231,18 @@ pub(crate) fn fill_stress_columns(sim: &Simulation<D3>, out: &mut Vec<[[f64; 4];
 /// `node_mass::<Fast, false, false>` of the active node `a`, from the factors of
 /// [`fill_mass_momentum`]: lanes (m·S, (m·v)·S).
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_mass(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<NodeMass<Vector3>> {
+pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<NodeMass<Vector3>> {
     let pairs = &sim.pairs;
     let items = pairs.of_active(a);
     let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
-    let mut acc = Acc4::new();
+    let mut acc = A::new();
     for &item in items {
         let item = item as usize;
         let pp = item / 27;
         debug_assert!(item < pairs.s.len() && pp < sim.particles.len());
         acc.add(_mm256_mul_pd(_mm256_loadu_pd((*mv.add(pp)).as_ptr()), _mm256_broadcast_sd(&*s.add(item))));
     }
-    let [l] = certified(items.len(), 4, &[acc])?;
+    let [l] = A::certified(items.len(), 4, &[acc])?;
     let mut out = NodeMass { present: if items.is_empty() { 0 } else { 1 }, ..Default::default() };
     out.mass[0] = l[0];
     out.mom[0] = Vector3::new(l[1], l[2], l[3]);
@@ -190,11 +253,11 @@ pub(crate) unsafe fn node_mass(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) 
 /// `node_momentum::<Fast, false>` of the active node `a`: lanes (m·v)·S, from the factors
 /// of [`fill_mass_momentum`] (the mass lane is formed and left unread).
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_momentum(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<[Vector3; MAX_FIELDS]> {
+pub(crate) unsafe fn node_momentum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<[Vector3; MAX_FIELDS]> {
     let pairs = &sim.pairs;
     let items = pairs.of_active(a);
     let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
-    let mut acc = Acc4::new();
+    let mut acc = A::new();
     for &item in items {
         let item = item as usize;
         let pp = item / 27;
@@ -203,7 +266,7 @@ pub(crate) unsafe fn node_momentum(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usi
     }
     let mut out = [Vector3::zeros(); MAX_FIELDS];
     if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
-        let [l] = certified(items.len(), 4, &[acc])?;
+        let [l] = A::certified(items.len(), 4, &[acc])?;
         out[0] = Vector3::new(l[1], l[2], l[3]);
     }
     Some(out)
@@ -213,11 +276,11 @@ pub(crate) unsafe fn node_momentum(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usi
 /// terms: lanes (−V)·(σ·G), σ·G = (σ_x G_x + σ_y G_y) + σ_z G_z by columns, from the
 /// factors of [`fill_stress_columns`]; the external force +0.
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_forces(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize) -> Option<NodeForce<Vector3>> {
+pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize) -> Option<NodeForce<Vector3>> {
     let pairs = &sim.pairs;
     let items = pairs.of_active(a);
     let (g, cols) = (pairs.g.as_ptr() as *const f64, cols.as_ptr());
-    let mut acc = Acc4::new();
+    let mut acc = A::new();
     for &item in items {
         let item = item as usize;
         let pp = item / 27;
@@ -232,7 +295,7 @@ pub(crate) unsafe fn node_forces(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a
     }
     let mut out = NodeForce::default();
     if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
-        let [l] = certified(items.len(), 3, &[acc])?;
+        let [l] = A::certified(items.len(), 3, &[acc])?;
         out.fint[0] = Vector3::new(l[0], l[1], l[2]);
         out.fext[0] = Vector3::zeros();
     }
@@ -256,7 +319,7 @@ pub(crate) unsafe fn velocity_gradient(sim: &Simulation<D3>, i: usize) -> Option
         acc[1].add(_mm256_mul_pd(_mm256_broadcast_sd(&*v.add(1)), gv));
         acc[2].add(_mm256_mul_pd(_mm256_broadcast_sd(&*v.add(2)), gv));
     }
-    let t = certified(k.len(), 3, &acc)?;
+    let t = Acc4::certified(k.len(), 3, &acc)?;
     Some(Tensor3::from_fn(|a, b| t[a][b]))
 }
 
@@ -276,6 +339,6 @@ pub(crate) unsafe fn particle_increments(sim: &Simulation<D3>, i: usize) -> Opti
         acc[0].add(_mm256_mul_pd(w, load3(vel.add(3 * n))));
         acc[1].add(_mm256_mul_pd(w, load3(accel.add(3 * n))));
     }
-    let [v, w] = certified(k.len(), 3, &acc)?;
+    let [v, w] = Acc4::certified(k.len(), 3, &acc)?;
     Some((Vector3::new(v[0], v[1], v[2]), Vector3::new(w[0], w[1], w[2])))
 }

@@ -236,8 +236,8 @@ impl<S: Dimension> Simulation<S> {
                         // SAFETY: fast3 is Some only when the CPU has AVX2.
                         Some(d3) => hinted(
                             hint,
-                            || unsafe { crate::gather3::node_mass(d3, &mv, a) }.map(crate::gather3::same),
-                            || simd!(avx, avx2::node_mass::<S, Fast3, false, false>(this, a), this.node_mass::<Fast3, false, false>(a)),
+                            || unsafe { crate::gather3::node_mass::<crate::gather3::Acc4>(d3, &mv, a) }.map(crate::gather3::same),
+                            || unsafe { crate::gather3::node_mass::<crate::gather3::Acc4x3>(d3, &mv, a) }.map(crate::gather3::same),
                             || simd!(avx, avx2::node_mass::<S, Exact, false, false>(this, a), this.node_mass::<Exact, false, false>(a)),
                         ),
                         None => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
@@ -493,8 +493,8 @@ impl<S: Dimension> Simulation<S> {
                     false if !ext && fast3.is_some() => hinted(
                         hint,
                         // SAFETY: fast3 is Some only when the CPU has AVX2.
-                        || unsafe { crate::gather3::node_forces(fast3.unwrap(), &cols, a) }.map(crate::gather3::same),
-                        || simd!(avx, avx2::node_forces::<S, Fast3, false>(this, a, ext, has_body), this.node_forces::<Fast3, false>(a, ext, has_body)),
+                        || unsafe { crate::gather3::node_forces::<crate::gather3::Acc4>(fast3.unwrap(), &cols, a) }.map(crate::gather3::same),
+                        || unsafe { crate::gather3::node_forces::<crate::gather3::Acc4x3>(fast3.unwrap(), &cols, a) }.map(crate::gather3::same),
                         || simd!(avx, avx2::node_forces::<S, Exact, false>(this, a, ext, has_body), this.node_forces::<Exact, false>(a, ext, has_body)),
                     ),
                     false => gather_hinted!(avx, avx, hint, this.node_forces::<false>(a, ext, has_body)),
@@ -692,8 +692,8 @@ impl<S: Dimension> Simulation<S> {
                     false if fast3.is_some() => hinted(
                         hint,
                         // SAFETY: fast3 is Some only when the CPU has AVX2.
-                        || unsafe { crate::gather3::node_momentum(fast3.unwrap(), &mv, a) }.map(crate::gather3::same),
-                        || simd!(avx, avx2::node_momentum::<S, Fast3, false>(this, a), this.node_momentum::<Fast3, false>(a)),
+                        || unsafe { crate::gather3::node_momentum::<crate::gather3::Acc4>(fast3.unwrap(), &mv, a) }.map(crate::gather3::same),
+                        || unsafe { crate::gather3::node_momentum::<crate::gather3::Acc4x3>(fast3.unwrap(), &mv, a) }.map(crate::gather3::same),
                         || simd!(avx, avx2::node_momentum::<S, Exact, false>(this, a), this.node_momentum::<Exact, false>(a)),
                     ),
                     false => gather_hinted!(avx, avx, hint, this.node_momentum::<false>(a)),
