@@ -60,6 +60,23 @@ macro_rules! simd {
     }};
 }
 
+/// `g3!(f::<A>(args))`: the explicit AVX2 gather `crate::gather3::f` (called only when
+/// `fast3d` gave the 3D simulation, i.e. on x86-64 with AVX2), its result as the generic
+/// step's type; unreachable elsewhere.
+macro_rules! g3 {
+    ($($call:tt)*) => {{
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: fast3d gives Some only when the CPU has AVX2.
+            unsafe { crate::gather3::$($call)* }.map(crate::gather3::same)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            unreachable!("gather3 runs on x86-64 only")
+        }
+    }};
+}
+
 /// `gather!(avx, rerun_avx, this.f::<CONST_ARGS>(args))`: the certified sums of one
 /// gather, the same bits whichever way they come: the fast sums ([`Fast`]), else the
 /// gather again with [`Exact`] accumulators (see [`fast_or_exact`]); the fast sums in their
@@ -221,6 +238,7 @@ impl<S: Dimension> Simulation<S> {
         let mut mv = std::mem::take(&mut self.scratch.mass_momentum);
         let fast3 = if avx { fast3d(self) } else { None };
         if let Some(d3) = fast3 {
+            #[cfg(target_arch = "x86_64")]
             crate::gather3::fill_mass_momentum(d3, &mut mv);
         }
         let this = &*self;
@@ -233,11 +251,10 @@ impl<S: Dimension> Simulation<S> {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MASS];
                 match (with_cracks, this.is_split(node)) {
                     (false, _) | (true, false) => match fast3 {
-                        // SAFETY: fast3 is Some only when the CPU has AVX2.
                         Some(d3) => hinted(
                             hint,
-                            || unsafe { crate::gather3::node_mass::<crate::gather3::Acc4>(d3, &mv, a) }.map(crate::gather3::same),
-                            || unsafe { crate::gather3::node_mass::<crate::gather3::Acc4x3>(d3, &mv, a) }.map(crate::gather3::same),
+                            || g3!(node_mass::<crate::gather3::Acc4>(d3, &mv, a)),
+                            || g3!(node_mass::<crate::gather3::Acc4x3>(d3, &mv, a)),
                             || simd!(avx, avx2::node_mass::<S, Exact, false, false>(this, a), this.node_mass::<Exact, false, false>(a)),
                         ),
                         None => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
@@ -436,9 +453,8 @@ impl<S: Dimension> Simulation<S> {
         let fast3 = if avx { fast3d(this) } else { None };
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
             false => match fast3 {
-                // SAFETY: fast3 is Some only when the CPU has AVX2.
                 Some(d3) => fast_or_exact(
-                    || unsafe { crate::gather3::velocity_gradient(d3, i) }.map(crate::gather3::same),
+                    || g3!(velocity_gradient(d3, i)),
                     || simd!(avx, avx2::velocity_gradient::<S, Exact, false>(this, i), this.velocity_gradient::<Exact, false>(i)),
                 ),
                 None => gather!(avx, avx, this.velocity_gradient::<false>(i)),
@@ -477,6 +493,7 @@ impl<S: Dimension> Simulation<S> {
         let mut cols = std::mem::take(&mut self.scratch.stress_columns);
         let fast3 = if avx { fast3d(self) } else { None };
         if let Some(d3) = fast3 {
+            #[cfg(target_arch = "x86_64")]
             crate::gather3::fill_stress_columns(d3, &mut cols);
         }
         let this = &*self;
@@ -492,9 +509,8 @@ impl<S: Dimension> Simulation<S> {
                 match this.is_split(node) {
                     false if !ext && fast3.is_some() => hinted(
                         hint,
-                        // SAFETY: fast3 is Some only when the CPU has AVX2.
-                        || unsafe { crate::gather3::node_forces::<crate::gather3::Acc4>(fast3.unwrap(), &cols, a) }.map(crate::gather3::same),
-                        || unsafe { crate::gather3::node_forces::<crate::gather3::Acc4x3>(fast3.unwrap(), &cols, a) }.map(crate::gather3::same),
+                        || g3!(node_forces::<crate::gather3::Acc4>(fast3.unwrap(), &cols, a)),
+                        || g3!(node_forces::<crate::gather3::Acc4x3>(fast3.unwrap(), &cols, a)),
                         || simd!(avx, avx2::node_forces::<S, Exact, false>(this, a, ext, has_body), this.node_forces::<Exact, false>(a, ext, has_body)),
                     ),
                     false => gather_hinted!(avx, avx, hint, this.node_forces::<false>(a, ext, has_body)),
@@ -619,9 +635,8 @@ impl<S: Dimension> Simulation<S> {
         let fast3 = if avx { fast3d(this) } else { None };
         let increments = |i: usize| match with_cracks && this.is_split_particle(i) {
             false => match fast3 {
-                // SAFETY: fast3 is Some only when the CPU has AVX2.
                 Some(d3) => fast_or_exact(
-                    || unsafe { crate::gather3::particle_increments(d3, i) }.map(crate::gather3::same),
+                    || g3!(particle_increments(d3, i)),
                     || simd!(avx, avx2::particle_increments::<S, Exact, false>(this, i), this.particle_increments::<Exact, false>(i)),
                 ),
                 None => gather!(avx, avx, this.particle_increments::<false>(i)),
@@ -678,6 +693,7 @@ impl<S: Dimension> Simulation<S> {
         let mut mv = std::mem::take(&mut self.scratch.mass_momentum);
         let fast3 = if avx { fast3d(self) } else { None };
         if let Some(d3) = fast3 {
+            #[cfg(target_arch = "x86_64")]
             crate::gather3::fill_mass_momentum(d3, &mut mv);
         }
         let this = &*self;
@@ -691,9 +707,8 @@ impl<S: Dimension> Simulation<S> {
                 match this.is_split(node) {
                     false if fast3.is_some() => hinted(
                         hint,
-                        // SAFETY: fast3 is Some only when the CPU has AVX2.
-                        || unsafe { crate::gather3::node_momentum::<crate::gather3::Acc4>(fast3.unwrap(), &mv, a) }.map(crate::gather3::same),
-                        || unsafe { crate::gather3::node_momentum::<crate::gather3::Acc4x3>(fast3.unwrap(), &mv, a) }.map(crate::gather3::same),
+                        || g3!(node_momentum::<crate::gather3::Acc4>(fast3.unwrap(), &mv, a)),
+                        || g3!(node_momentum::<crate::gather3::Acc4x3>(fast3.unwrap(), &mv, a)),
                         || simd!(avx, avx2::node_momentum::<S, Exact, false>(this, a), this.node_momentum::<Exact, false>(a)),
                     ),
                     false => gather_hinted!(avx, avx, hint, this.node_momentum::<false>(a)),
