@@ -236,10 +236,10 @@ pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a
     let items = pairs.of_active(a);
     let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
     let mut acc = A::new();
-    for &item in items {
-        let item = item as usize;
-        let pp = item / 27;
-        debug_assert!(item < pairs.s.len() && pp < sim.particles.len());
+    let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
+    for (&item, &pp) in items.iter().zip(owner) {
+        let (item, pp) = (item as usize, pp as usize);
+        debug_assert!(item < pairs.s.len() && pp == item / 27 && pp < sim.particles.len());
         acc.add(_mm256_mul_pd(_mm256_loadu_pd((*mv.add(pp)).as_ptr()), _mm256_broadcast_sd(&*s.add(item))));
     }
     let [l] = A::certified(items.len(), 4, &[acc])?;
@@ -258,10 +258,10 @@ pub(crate) unsafe fn node_momentum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]
     let items = pairs.of_active(a);
     let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
     let mut acc = A::new();
-    for &item in items {
-        let item = item as usize;
-        let pp = item / 27;
-        debug_assert!(item < pairs.s.len() && pp < sim.particles.len());
+    let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
+    for (&item, &pp) in items.iter().zip(owner) {
+        let (item, pp) = (item as usize, pp as usize);
+        debug_assert!(item < pairs.s.len() && pp == item / 27 && pp < sim.particles.len());
         acc.add(_mm256_mul_pd(_mm256_loadu_pd((*mv.add(pp)).as_ptr()), _mm256_broadcast_sd(&*s.add(item))));
     }
     let mut out = [Vector3::zeros(); MAX_FIELDS];
@@ -281,10 +281,10 @@ pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4
     let items = pairs.of_active(a);
     let (g, cols) = (pairs.g.as_ptr() as *const f64, cols.as_ptr());
     let mut acc = A::new();
-    for &item in items {
-        let item = item as usize;
-        let pp = item / 27;
-        debug_assert!(item < pairs.g.len() && pp < sim.particles.len());
+    let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
+    for (&item, &pp) in items.iter().zip(owner) {
+        let (item, pp) = (item as usize, pp as usize);
+        debug_assert!(item < pairs.g.len() && pp == item / 27 && pp < sim.particles.len());
         let c = &*cols.add(pp);
         let gp = g.add(3 * item);
         let t = _mm256_add_pd(
