@@ -228,10 +228,12 @@ pub(crate) fn fill_stress_columns(sim: &Simulation<D3>, out: &mut Vec<[[f64; 4];
     });
 }
 
-/// `node_mass::<Fast, false, false>` of the active node `a`, from the factors of
-/// [`fill_mass_momentum`]: lanes (m·S, (m·v)·S).
+/// The four lanes (m·S, (m·v)·S) of the active node `a` summed over its pairs, from the
+/// factors of [`fill_mass_momentum`], and the number of terms: the loop [`node_mass`] and
+/// [`node_momentum`] share.
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<NodeMass<Vector3>> {
+#[inline]
+unsafe fn mass_momentum_sum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> (A, usize) {
     let pairs = &sim.pairs;
     let items = pairs.of_active(a);
     let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
@@ -242,8 +244,16 @@ pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a
         debug_assert!(item < pairs.s.len() && pp == item / 27 && pp < sim.particles.len());
         acc.add(_mm256_mul_pd(_mm256_loadu_pd((*mv.add(pp)).as_ptr()), _mm256_broadcast_sd(&*s.add(item))));
     }
-    let [l] = A::certified(items.len(), 4, &[acc])?;
-    let mut out = NodeMass { present: if items.is_empty() { 0 } else { 1 }, ..Default::default() };
+    (acc, items.len())
+}
+
+/// `node_mass::<Fast, false, false>` of the active node `a`, from the factors of
+/// [`fill_mass_momentum`]: lanes (m·S, (m·v)·S).
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<NodeMass<Vector3>> {
+    let (acc, n) = mass_momentum_sum::<A>(sim, mv, a);
+    let [l] = A::certified(n, 4, &[acc])?;
+    let mut out = NodeMass { present: if n == 0 { 0 } else { 1 }, ..Default::default() };
     out.mass[0] = l[0];
     out.mom[0] = Vector3::new(l[1], l[2], l[3]);
     out.volume = f64::NAN;
@@ -254,19 +264,10 @@ pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a
 /// of [`fill_mass_momentum`] (the mass lane is formed and left unread).
 #[target_feature(enable = "avx2")]
 pub(crate) unsafe fn node_momentum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<[Vector3; MAX_FIELDS]> {
-    let pairs = &sim.pairs;
-    let items = pairs.of_active(a);
-    let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
-    let mut acc = A::new();
-    let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
-    for (&item, &pp) in items.iter().zip(owner) {
-        let (item, pp) = (item as usize, pp as usize);
-        debug_assert!(item < pairs.s.len() && pp == item / 27 && pp < sim.particles.len());
-        acc.add(_mm256_mul_pd(_mm256_loadu_pd((*mv.add(pp)).as_ptr()), _mm256_broadcast_sd(&*s.add(item))));
-    }
+    let (acc, n) = mass_momentum_sum::<A>(sim, mv, a);
     let mut out = [Vector3::zeros(); MAX_FIELDS];
     if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
-        let [l] = A::certified(items.len(), 4, &[acc])?;
+        let [l] = A::certified(n, 4, &[acc])?;
         out[0] = Vector3::new(l[1], l[2], l[3]);
     }
     Some(out)
