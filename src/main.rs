@@ -320,8 +320,8 @@ fn execute(scene: &Scene, out: PathBuf, unchecked: bool, force: bool) -> anyhow:
         if s.checked { ", checked" } else { "" }
     );
     outln!(
-        "final energies: kinetic {:.6e}, strain {:.6e}, external work {:.6e}, damping {:.6e}, total {:.6e}",
-        e.kinetic, e.strain, e.external_work, e.damping, e.total
+        "final energies: kinetic {:.6e}, strain {:.6e}, external work {:.6e}, boundary work {:.6e}, damping {:.6e}, total {:.6e}",
+        e.kinetic, e.strain, e.external_work, e.boundary_work, e.damping, e.total
     );
     outln!("outputs in {}", out.display());
     if s.status == RunStatus::Interrupted {
@@ -365,8 +365,8 @@ fn execute_3d(scene: &Scene3, out: PathBuf, unchecked: bool, force: bool) -> any
         if s.checked { ", checked" } else { "" }
     );
     outln!(
-        "final energies: kinetic {:.6e}, strain {:.6e}, external work {:.6e}, damping {:.6e}, total {:.6e}",
-        e.kinetic, e.strain, e.external_work, e.damping, e.total
+        "final energies: kinetic {:.6e}, strain {:.6e}, external work {:.6e}, boundary work {:.6e}, damping {:.6e}, total {:.6e}",
+        e.kinetic, e.strain, e.external_work, e.boundary_work, e.damping, e.total
     );
     outln!("outputs in {}", out.display());
     if s.status == RunStatus::Interrupted {

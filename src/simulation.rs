@@ -182,12 +182,18 @@ pub struct Energies {
     pub external_work: f64,
     /// Energy removed by the damping term −κp of eq. 28 since t = 0.
     pub damping: f64,
+    /// Work done on the body by the velocity boundary conditions since t = 0: at every
+    /// node component held at a non-zero velocity v_c, the reaction (the force Task 3
+    /// removes there) times v_c Δt. Zero when every condition holds its nodes still.
+    pub boundary_work: f64,
 }
 
 impl Energies {
-    /// Kinetic + strain + damped − external work: constant for an exact integrator.
+    /// Kinetic + strain + damped − external work − boundary work: constant for an exact
+    /// integrator. (The boundary work is +0 in a scene whose conditions hold their nodes
+    /// still, so there the total has the same bits as without it.)
     pub fn total(&self) -> f64 {
-        self.kinetic + self.strain + self.damping - self.external_work
+        self.kinetic + self.strain + self.damping - self.external_work - self.boundary_work
     }
 }
 

@@ -549,6 +549,9 @@ impl<S: Dimension> Simulation<S> {
         }
         self.scratch.force = sums;
         self.scratch.stress_columns = cols;
+        // The reactions, before the fixed directions' forces are removed.
+        self.work.boundary_work += self.boundary_power() * self.options.dt;
+        let nodes = &mut self.nodes;
         // Fixed directions do not accelerate.
         for &node in &self.bcs.nodes {
             let i = node as usize;
@@ -569,6 +572,34 @@ impl<S: Dimension> Simulation<S> {
             0.0
         };
         self.work.damping += self.options.dt * damp_power;
+    }
+
+    /// Power of the velocity boundary conditions, Σ v_c R_c over every field of every node
+    /// component held at a non-zero velocity v_c. The reaction R_c = −f_tot,c is the force
+    /// the condition removes in Task 3 (internal, external and damping force −κp, eq. 28),
+    /// so that R_c v_c Δt is the energy the moving node puts into the body: the kinetic
+    /// energy of Task 5 gets nothing from a held component (its acceleration is zero),
+    /// while the strain energy of Task 6 takes −f_int,c v_c Δt, the external work
+    /// f_ext,c v_c Δt (the particles move with the node) and the damping energy κ p_c v_c Δt
+    /// (eq. 28's power is counted at every field). Components held still do no work and
+    /// are skipped, so the sum is +0 in scenes without moving conditions. Summed exactly:
+    /// the same bits for any particle order and thread count.
+    fn boundary_power(&self) -> f64 {
+        let (bcs, nodes) = (&self.bcs, &self.nodes);
+        let moving = |&node: &u32| {
+            let i = node as usize;
+            (0..S::DIM).any(|c| bcs.mask[i] & (1 << c) != 0 && bcs.vel[i][c] != 0.0)
+        };
+        if !bcs.nodes.iter().any(moving) {
+            return 0.0;
+        }
+        let terms = bcs.nodes.iter().filter(|n| moving(n)).flat_map(|&node| {
+            let i = node as usize;
+            nodes.fields.iter().enumerate().filter(move |(f, _)| nodes.present[i] & (1 << f) != 0).flat_map(move |(_, fa)| {
+                (0..S::DIM).filter(move |&c| bcs.mask[i] & (1 << c) != 0 && bcs.vel[i][c] != 0.0).map(move |c| -fa.ftot[i][c] * bcs.vel[i][c])
+            })
+        });
+        crate::exact::sum_fast(terms)
     }
 
     /// Which active nodes have a pair whose external force term `node_forces` computes:

@@ -28,11 +28,14 @@ pub struct HistoryRow {
     pub strain: f64,
     pub external_work: f64,
     pub damping: f64,
-    /// kinetic + strain + damping − external_work.
+    /// kinetic + strain + damping − external_work − boundary_work.
     pub total: f64,
     /// Total particle momentum.
     pub momentum_x: f64,
     pub momentum_y: f64,
+    /// Work of the velocity boundary conditions that move their nodes (reaction · v_c Δt).
+    #[serde(default)]
+    pub boundary_work: f64,
 }
 
 impl HistoryRow {
@@ -48,16 +51,18 @@ impl HistoryRow {
             total: e.total(),
             momentum_x: p.x,
             momentum_y: p.y,
+
+            boundary_work: e.boundary_work,
         }
     }
 
-    pub const HEADER: &'static str = "time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y";
+    pub const HEADER: &'static str = "time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,boundary_work";
 
     pub fn csv(&self) -> String {
         // `{:e}` of f64 round-trips exactly.
         format!(
-            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-            self.time, self.kinetic, self.strain, self.external_work, self.damping, self.total, self.momentum_x, self.momentum_y
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+            self.time, self.kinetic, self.strain, self.external_work, self.damping, self.total, self.momentum_x, self.momentum_y, self.boundary_work
         )
     }
 }

@@ -20,11 +20,14 @@ pub struct HistoryRow3 {
     pub strain: f64,
     pub external_work: f64,
     pub damping: f64,
-    /// kinetic + strain + damping − external_work.
+    /// kinetic + strain + damping − external_work − boundary_work.
     pub total: f64,
     pub momentum_x: f64,
     pub momentum_y: f64,
     pub momentum_z: f64,
+    /// Work of the velocity boundary conditions that move their nodes (reaction · v_c Δt).
+    #[serde(default)]
+    pub boundary_work: f64,
 }
 
 impl HistoryRow3 {
@@ -41,15 +44,17 @@ impl HistoryRow3 {
             momentum_x: p.x,
             momentum_y: p.y,
             momentum_z: p.z,
+
+            boundary_work: e.boundary_work,
         }
     }
 
-    pub const HEADER: &'static str = "time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,momentum_z";
+    pub const HEADER: &'static str = "time,kinetic,strain,external_work,damping,total,momentum_x,momentum_y,momentum_z,boundary_work";
 
     pub fn csv(&self) -> String {
         format!(
-            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-            self.time, self.kinetic, self.strain, self.external_work, self.damping, self.total, self.momentum_x, self.momentum_y, self.momentum_z
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+            self.time, self.kinetic, self.strain, self.external_work, self.damping, self.total, self.momentum_x, self.momentum_y, self.momentum_z, self.boundary_work
         )
     }
 }

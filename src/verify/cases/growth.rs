@@ -520,6 +520,66 @@ pub fn dcb_restarts(r: &RunResult, h: f64) -> Vec<(f64, f64, f64)> {
     out
 }
 
+/// One burst of growth (increments less than 0.5 ms apart) and its energy balance.
+#[derive(Clone, Copy, Debug)]
+pub struct Burst {
+    /// First and last increment (ms).
+    pub from: f64,
+    pub to: f64,
+    /// Crack area added per unit thickness (mm): the burst's increments.
+    pub da: f64,
+    /// Time average of J over the burst's checks (N/mm).
+    pub j_mean: f64,
+    /// The run's own energy release rate over the burst, G = −Δ(W_ext + W_b − U − T − D)
+    /// /(Δa × thickness), from the history rows just before the burst and the first after
+    /// it has settled (0.1 ms), before the next burst (N/mm); NaN without such rows.
+    pub g: f64,
+}
+
+/// The bursts of growth of tip `end` of run `r` and their energy balance (issue 20 item 2:
+/// the J of a growing crack against the run's own G). The total of the history is
+/// kinetic + strain + damped − external work − boundary work, so −Δtotal is the energy
+/// the body gave up: what the crack consumed (zero with the papers' sudden release).
+pub fn bursts(r: &RunResult, end: TipEnd) -> Vec<Burst> {
+    let recs = records(r, end);
+    let mut spans: Vec<(f64, f64, usize)> = Vec::new();
+    for x in recs.iter().filter(|x| x.grew) {
+        let t = x.fracture.time;
+        match spans.last_mut() {
+            Some(s) if t - s.1 < 0.5 => {
+                s.1 = t;
+                s.2 += 1;
+            }
+            _ => spans.push((t, t, 1)),
+        }
+    }
+    let thickness = r.sim.thickness.first().copied().unwrap_or(1.0);
+    let increment = |from: f64, to: f64| {
+        let grew: Vec<&GrowthRecord> = recs.iter().filter(|x| x.grew && (from..=to).contains(&x.fracture.time)).collect();
+        // Each record's length is after its increment; the first increment is the step
+        // from the length before it.
+        let before = recs.iter().filter(|x| x.fracture.time < from).last().map_or(f64::NAN, |x| x.length);
+        grew.last().map_or(0.0, |x| x.length) - before
+    };
+    spans
+        .iter()
+        .enumerate()
+        .map(|(k, &(from, to, _))| {
+            let next = spans.get(k + 1).map_or(f64::INFINITY, |s| s.0);
+            let js: Vec<f64> = recs.iter().filter(|x| (from..=to).contains(&x.fracture.time) && x.fracture.j1.is_finite()).map(|x| x.fracture.j1).collect();
+            let j_mean = js.iter().sum::<f64>() / js.len().max(1) as f64;
+            let da = increment(from, to);
+            let before = r.history.iter().filter(|h| h.time < from).last();
+            let after = r.history.iter().find(|h| h.time > to + 0.1 && h.time < next);
+            let g = match (before, after) {
+                (Some(a), Some(b)) => -(b.total - a.total) / (da * thickness),
+                _ => f64::NAN,
+            };
+            Burst { from, to, da, j_mean, g }
+        })
+        .collect()
+}
+
 /// Case `dcb_growth`: quick 2 mm, full 4, 2 and 1 mm (4 mm reported, not held: three
 /// cells per arm make the arms' compliance, which sets K under opening control, ~12 % off).
 pub fn run_dcb_growth(variant: Variant) -> anyhow::Result<CaseOutput> {
@@ -554,5 +614,39 @@ pub fn run_dcb_growth(variant: Variant) -> anyhow::Result<CaseOutput> {
         PlotSpec::new("DCB under opening control: crack length", "time (ms)", "crack length a (mm)"),
         Plot::Lines(series),
     );
+    Ok(out)
+}
+
+/// Case `dcb_growth_j` (full only; issue 20 item 2): the beam of `dcb_growth` at 2 and
+/// 1 mm with the gradual release of new segments (`growth.release = {}`, 5-cell contour):
+/// each burst's mean J against the run's own energy release rate ([`bursts`]); the 2 mm
+/// beam with the papers' sudden release in the notes.
+pub fn run_dcb_growth_j(variant: Variant) -> anyhow::Result<CaseOutput> {
+    anyhow::ensure!(variant == Variant::Full, "dcb_growth_j has no quick variant");
+    let mut out = CaseOutput::default();
+    let g_c = KIC_DCB * KIC_DCB / E_BEAM;
+    for h in [2.0, 1.0] {
+        for released in [false, true] {
+            if !released && h < 2.0 {
+                continue;
+            }
+            let mut file = dcb_growth_scene(h).set("cracks.0.fracture.contour", 5);
+            if released {
+                file = file.set("cracks.0.fracture.growth.release", "{}");
+            }
+            let (r, wall) = run_growth_file(&file, false)?;
+            let label = if released { "gradual release" } else { "sudden release (papers)" };
+            let bs = bursts(&r, TipEnd::End);
+            for b in &bs {
+                if released && b.da >= 3.0 * 0.5 * h && b.g.is_finite() {
+                    out.measure("released_j_is_g", &format!("h = {h} mm, burst {:.2}–{:.2} ms", b.from, b.to), b.j_mean, b.g);
+                }
+            }
+            out.note(format!(
+                "h = {h} mm, 5-cell contour, {label}: bursts (ms, Δa mm, mean J, run's G, in G_c = K_Ic²/E = {g_c:.5} N/mm) {}; {wall:.1} s wall",
+                bs.iter().map(|b| format!("({:.2}–{:.2}, {:.1}, {:.3}, {:.3})", b.from, b.to, b.da, b.j_mean / g_c, b.g / g_c)).collect::<Vec<_>>().join(", ")
+            ));
+        }
+    }
     Ok(out)
 }
