@@ -532,7 +532,8 @@ pub struct Burst {
     pub j_mean: f64,
     /// The run's own energy release rate over the burst, G = −Δ(W_ext + W_b − U − T − D)
     /// /(Δa × thickness), from the history rows just before the burst and the first after
-    /// it has settled (0.1 ms), before the next burst (N/mm); NaN without such rows.
+    /// it has settled (`settle` after its last increment), before the next burst (N/mm);
+    /// NaN without such rows.
     pub g: f64,
 }
 
@@ -540,7 +541,7 @@ pub struct Burst {
 /// the J of a growing crack against the run's own G). The total of the history is
 /// kinetic + strain + damped − external work − boundary work, so −Δtotal is the energy
 /// the body gave up: what the crack consumed (zero with the papers' sudden release).
-pub fn bursts(r: &RunResult, end: TipEnd) -> Vec<Burst> {
+pub fn bursts(r: &RunResult, end: TipEnd, settle: f64) -> Vec<Burst> {
     let recs = records(r, end);
     let mut spans: Vec<(f64, f64, usize)> = Vec::new();
     for x in recs.iter().filter(|x| x.grew) {
@@ -570,7 +571,7 @@ pub fn bursts(r: &RunResult, end: TipEnd) -> Vec<Burst> {
             let j_mean = js.iter().sum::<f64>() / js.len().max(1) as f64;
             let da = increment(from, to);
             let before = r.history.iter().filter(|h| h.time < from).last();
-            let after = r.history.iter().find(|h| h.time > to + 0.1 && h.time < next);
+            let after = r.history.iter().find(|h| h.time > to + settle && h.time < next);
             let g = match (before, after) {
                 (Some(a), Some(b)) => -(b.total - a.total) / (da * thickness),
                 _ => f64::NAN,
@@ -617,12 +618,14 @@ pub fn run_dcb_growth(variant: Variant) -> anyhow::Result<CaseOutput> {
     Ok(out)
 }
 
-/// Case `dcb_growth_j` (full only; issue 20 item 2): the beam of `dcb_growth` at 2 and
-/// 1 mm with the gradual release of new segments (`growth.release = {}`, 5-cell contour):
-/// each burst's mean J against the run's own energy release rate ([`bursts`]); the 2 mm
-/// beam with the papers' sudden release in the notes.
-pub fn run_dcb_growth_j(variant: Variant) -> anyhow::Result<CaseOutput> {
-    anyhow::ensure!(variant == Variant::Full, "dcb_growth_j has no quick variant");
+/// Case `growth_j` (full only; issue 20 item 2): criterion-driven growth with the gradual
+/// release of new segments (`growth.release = {}`, 5-cell contour) — the DCB of
+/// `dcb_growth` at 2 and 1 mm (bursts under opening control) and the PMMA beam of
+/// `pmma_tpb` at 2 mm (one run under impact): each burst's mean J against the run's own
+/// energy release rate ([`bursts`]); the 2 mm DCB with the papers' sudden release in the
+/// notes.
+pub fn run_growth_j(variant: Variant) -> anyhow::Result<CaseOutput> {
+    anyhow::ensure!(variant == Variant::Full, "growth_j has no quick variant");
     let mut out = CaseOutput::default();
     let g_c = KIC_DCB * KIC_DCB / E_BEAM;
     for h in [2.0, 1.0] {
@@ -636,7 +639,9 @@ pub fn run_dcb_growth_j(variant: Variant) -> anyhow::Result<CaseOutput> {
             }
             let (r, wall) = run_growth_file(&file, false)?;
             let label = if released { "gradual release" } else { "sudden release (papers)" };
-            let bs = bursts(&r, TipEnd::End);
+            // Settled 0.1 ms after the last increment: its release lasts at most
+            // length·h/(0.2 c_R) = 8 mm / 141 mm/ms = 57 µs at 2 mm.
+            let bs = bursts(&r, TipEnd::End, 0.1);
             for b in &bs {
                 if released && b.da >= 3.0 * 0.5 * h && b.g.is_finite() {
                     out.measure("released_j_is_g", &format!("h = {h} mm, burst {:.2}–{:.2} ms", b.from, b.to), b.j_mean, b.g);
@@ -648,5 +653,22 @@ pub fn run_dcb_growth_j(variant: Variant) -> anyhow::Result<CaseOutput> {
             ));
         }
     }
+    // The PMMA beam of pmma_tpb at 2 mm, released gradually, run on to 0.32 ms so that the
+    // last increment's release (at most length·h/(0.2 c_R) = 44 µs) has ended: its one
+    // burst of growth against the run's own balance (no grips, no damping).
+    let end = 0.32;
+    let file = three_point_bend(2.0, 0.0, "min_strain_energy", end).set("cracks.0.fracture.contour", 5).set("cracks.0.fracture.growth.release", "{}");
+    let (r, wall) = run_growth_file(&file, false)?;
+    let g_c = KIC_PMMA * KIC_PMMA * (1.0 - 0.3 * 0.3) / 2940.0;
+    let bs = bursts(&r, TipEnd::End, 0.045);
+    for b in &bs {
+        if b.da >= 3.0 && b.g.is_finite() {
+            out.measure("released_j_is_g", &format!("pmma_tpb h = 2 mm, {:.0}–{:.0} µs", 1e3 * b.from, 1e3 * b.to), b.j_mean, b.g);
+        }
+    }
+    out.note(format!(
+        "pmma_tpb h = 2 mm, 5-cell contour, gradual release, to {end} ms: bursts (µs, Δa mm, mean J, run's G, in G_c = K_Ic²(1 − ν²)/E = {g_c:.4} N/mm) {}; {wall:.1} s wall",
+        bs.iter().map(|b| format!("({:.0}–{:.0}, {:.1}, {:.3}, {:.3})", 1e3 * b.from, 1e3 * b.to, b.da, b.j_mean / g_c, b.g / g_c)).collect::<Vec<_>>().join(", ")
+    ));
     Ok(out)
 }

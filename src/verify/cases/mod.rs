@@ -57,7 +57,7 @@ pub const REGISTRY: &[Case] = &[
     Case { name: "pmma_tpb_offcentre", run: growth::run_offcentre },
     Case { name: "mode_ii_kink", run: growth::run_mode_ii },
     Case { name: "dcb_growth", run: growth::run_dcb_growth },
-    Case { name: "dcb_growth_j", run: growth::run_dcb_growth_j },
+    Case { name: "growth_j", run: growth::run_growth_j },
     Case { name: "growth_strip", run: growth_strip::run },
     Case { name: "growth_strip_j", run: growth_strip::run_j },
     Case { name: "plates_k", run: plates::run },
