@@ -122,7 +122,7 @@
 //! exact sums in J and the relative volume, so a run is bit-identical for any particle
 //! order and thread count (tests/three_d_crack_reproducibility.rs).
 
-use crate::crack::advance3::{advance_front, prune_front};
+use crate::crack::advance3::{advance_front_stopped, prune_front};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
@@ -322,6 +322,12 @@ impl Simulation<D3> {
             let da = fg.settings.increment * h;
             let mut moves: BTreeMap<u32, Vector3> = BTreeMap::new();
             let mut rows: Vec<NodeRecord> = Vec::with_capacity(results.len());
+            // A node lags when a front neighbour has advanced more than LAG_INCREMENTS
+            // increments further (module doc, item 5).
+            let lags = |v: u32| {
+                let own = fg.nodes[&v].advance;
+                self.cracks[c].front.iter().filter(|e| e.contains(&v)).flatten().filter_map(|u| fg.nodes.get(u)).any(|n| n.advance - own > LAG_INCREMENTS * da)
+            };
             for fr in &results {
                 let v = fr.node;
                 let node = &fg.nodes[&v];
@@ -366,7 +372,18 @@ impl Simulation<D3> {
                                     to[a] = p;
                                 }
                             }
-                            let (target, at_edge) = trim_by(fr.x, to, volume(face));
+                            let (mut target, at_edge) = trim_by(fr.x, to, volume(face));
+                            // A front end on a free face whose move ends outside the
+                            // material (with no image: the end started beyond the face, or
+                            // the face is convex) is brought back along −n to the boundary
+                            // (module doc, item 5).
+                            if let Some((n, _)) = face {
+                                let direct = volume(None);
+                                let inner = target - n * h;
+                                if direct(target) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME {
+                                    target = trim_by(inner, target, &direct).0;
+                                }
+                            }
                             if at_edge {
                                 status = NodeStatus::AtEdge;
                             }
@@ -382,6 +399,10 @@ impl Simulation<D3> {
                         let face = on_face(fr.frame.e1);
                         let ahead = face.map_or(fr.frame.e1, |(_, d)| d);
                         if near_boundary(volume(face), fr.x, ahead, da) {
+                            status = NodeStatus::AtEdge;
+                            fg.near_edge += 1;
+                        } else if lags(v) && free_face(b, mat, fr.x, pl, h).is_some() {
+                            // Left behind by the front at a free face (module doc, item 5).
                             status = NodeStatus::AtEdge;
                             fg.near_edge += 1;
                         }
@@ -412,7 +433,10 @@ impl Simulation<D3> {
             if !moves.is_empty() {
                 let others: Vec<&crate::crack::surface::TriangleSurface> = self.cracks.iter().enumerate().filter(|&(o, _)| o != c).map(|(_, k)| &k.surface).collect();
                 let mut crack = self.cracks[c].clone();
-                let report = advance_front(&mut crack, &mut fg.front_ref, &moves, &others);
+                // Stopped for good and not moving (sliver rule of advance_front_stopped).
+                let stopped: BTreeSet<u32> = rows.iter().filter(|r| r.status != NodeStatus::Growing && !moves.contains_key(&r.vertex)).map(|r| r.vertex).collect();
+                let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped);
+                fg.pruned += report.dropped;
                 self.cracks[c] = crack;
                 fg.splits += report.splits;
                 fg.merges += report.merges;
@@ -670,6 +694,11 @@ pub fn free_face(b: &MaterialBoundary3, mat: usize, x: Vector3, planes: &[(usize
     }
     Some(-g.normalize())
 }
+
+/// A front node lags when a front neighbour has advanced more than this many increments
+/// further (module doc, item 5): one increment is the staircase of asynchronous moves
+/// (item 3); one and a half is at least two moves behind.
+pub const LAG_INCREMENTS: f64 = 1.5;
 
 /// Relative-volume gradient (times the cell) above which a front end is on a free face.
 pub const FACE_GRADIENT: f64 = 0.25;
