@@ -91,6 +91,30 @@
 //!    never moved again, kept status `growing`, and their front edges were never pruned).
 //!    The ligament it leaves, at most 0.29 cell, is below the resolution of the MPM
 //!    material boundary itself (001 §2.3.3: "approximately along the grid lines").
+//!    **Left behind at a free face**: a growing node that does not meet its criterion, at
+//!    a free face ([`free_face`] at the node itself: within about ¾ cell of it), whose
+//!    front neighbour has advanced more than [`LAG_INCREMENTS`] = 1.5 increments further
+//!    (at least two moves ahead; one increment is the staircase of item 3), or all of whose
+//!    front neighbours have stopped for good, also stops for good (status `edge`, counted
+//!    with the nodes above) even when its x1 does not point at the face. (Without the
+//!    second clause, measured: a front end on the inner face with J₁ < 0, whose only
+//!    neighbour had been stopped by the first, kept a two-node piece of front 10° behind
+//!    the rest for the whole run.) Measured on `tube_crack` (main 833f572): nodes 0.3–0.8 mm from the
+//!    tube's inner face, their front tilted so that the contour circle (2 cells) was cut
+//!    by the face, had J₁ = −66 … −21 N/mm (K = 0) and stayed `growing` 2–10 increments
+//!    behind their neighbours for the rest of the run, their front edges never pruned;
+//!    their neighbours' one-end triangles about them made fans of slivers (the sliver rule
+//!    of [`crate::crack::advance3`] drops such edges once the node is stopped). Before the
+//!    load arrives no node lags, so the rule cannot stop a front that has not yet grown.
+//!    **Back onto the boundary**: a front end on a free face whose move (along the face,
+//!    its image counted) ends outside the material by the direct relative volume
+//!    (V < ½ with no face image) — an end that starts beyond the face, as the tube's
+//!    initial crack (its polygon reaches r = 50.35 for the outer radius 50, as the
+//!    archived input), or a move along the tangent plane of a convex face — is brought
+//!    back along −n onto the boundary (the last point with V ≥ ½ from one cell inside to
+//!    the target, when that inner point is inside). Measured on `tube_crack` (main
+//!    833f572): the outer ends' first moves made crack particles at r = 50.58, carried
+//!    with the bulging wall to 0.89 mm outside it (check `inside`, 0.5).
 //! 6. **New surface** ([`advance_front`], 001 Fig. 3): one triangle per front edge with one
 //!    end moving, four with both, five when the new edge exceeds twice its reference length
 //!    (split, a new front node), one and a merged node when it falls below a quarter. A
@@ -322,11 +346,13 @@ impl Simulation<D3> {
             let da = fg.settings.increment * h;
             let mut moves: BTreeMap<u32, Vector3> = BTreeMap::new();
             let mut rows: Vec<NodeRecord> = Vec::with_capacity(results.len());
-            // A node lags when a front neighbour has advanced more than LAG_INCREMENTS
-            // increments further (module doc, item 5).
+            // A node is left behind when a front neighbour has advanced more than
+            // LAG_INCREMENTS increments further, or when all its front neighbours have
+            // stopped for good (module doc, item 5).
             let lags = |v: u32| {
                 let own = fg.nodes[&v].advance;
-                self.cracks[c].front.iter().filter(|e| e.contains(&v)).flatten().filter_map(|u| fg.nodes.get(u)).any(|n| n.advance - own > LAG_INCREMENTS * da)
+                let nbrs: Vec<&NodeGrowth> = self.cracks[c].front.iter().filter(|e| e.contains(&v)).flatten().filter(|&&u| u != v).filter_map(|u| fg.nodes.get(u)).collect();
+                nbrs.iter().any(|n| n.advance - own > LAG_INCREMENTS * da) || (!nbrs.is_empty() && nbrs.iter().all(|n| n.status != NodeStatus::Growing))
             };
             for fr in &results {
                 let v = fr.node;
