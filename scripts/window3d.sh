@@ -7,7 +7,7 @@ set -euo pipefail
 scene=$1 warm=$2 steps=$3 bin=${4:-target/release/examples/window3d}
 dir=$(mktemp -d)
 go=$dir/go out=$dir/callgrind.out log=$dir/stdout
-GO_FILE=$go valgrind --tool=callgrind --instr-atstart=no \
+GO_FILE=$go valgrind --tool=callgrind --instr-atstart=no ${CG_OPTS:-} \
     --callgrind-out-file="$out" "$bin" "$scene" "$warm" "$steps" >"$log" 2>"$dir/stderr" &
 pid=$!
 until grep -q ready "$log" 2>/dev/null; do

@@ -704,7 +704,7 @@ impl SumKind for Exact {
 
 /// The certificate of [`FastSum`] for one lane (see there for the proof).
 #[inline]
-fn certify(s: f64, c: f64, a: f64, m: f64, n: u32) -> Option<f64> {
+pub(crate) fn certify(s: f64, c: f64, a: f64, m: f64, n: u32) -> Option<f64> {
     if n == 0 {
         return Some(0.0);
     }
@@ -785,7 +785,7 @@ fn half_gap(r: f64) -> f64 {
 /// Otherwise None: the exact sum decides (non-finite terms, Σ|x| outside [2^−800, 2^1000],
 /// more than 2^16 terms, or a sum within δ₃ of a rounding boundary).
 #[inline]
-fn certify3(s: f64, c: f64, d: f64, a: f64, m: f64, n: u32) -> Option<f64> {
+pub(crate) fn certify3(s: f64, c: f64, d: f64, a: f64, m: f64, n: u32) -> Option<f64> {
     if n == 0 || a == 0.0 {
         return certify(s, c, a, m, n);
     }

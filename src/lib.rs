@@ -36,6 +36,7 @@ pub mod expr;
 pub mod fea;
 pub mod fingerprint;
 pub mod fracture;
+mod gather3;
 pub mod grid;
 pub mod material;
 pub mod motion;

@@ -380,6 +380,29 @@ pub struct GrowthSpec {
     /// Number of past increments the tip-speed estimate spans (default 4).
     #[serde(default = "default_speed_window")]
     pub speed_window: usize,
+    /// Release each new segment gradually (2D; [`crate::fracture::release`]). Omitted: at
+    /// once, as the papers (001 §2.3.2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub release: Option<ReleaseSpec>,
+}
+
+/// `cracks[].fracture.growth.release = { length = 4.0, damping = 1.0 }` (2D).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ReleaseSpec {
+    /// Cells the tip crosses while a new segment is released (default 4).
+    #[serde(default = "default_release_length")]
+    pub length: f64,
+    /// Damping of the held faces' relative velocity, in units of c_d/h (default 1).
+    #[serde(default = "default_release_damping")]
+    pub damping: f64,
+}
+
+fn default_release_length() -> f64 {
+    crate::fracture::release::DEFAULT_LENGTH
+}
+fn default_release_damping() -> f64 {
+    crate::fracture::release::DEFAULT_DAMPING
 }
 
 impl GrowthSpec {
@@ -398,6 +421,14 @@ impl GrowthSpec {
         }
         if self.speed_window == 0 {
             return Err(invalid(f("speed_window"), "must be at least 1 (increments the tip-speed estimate spans)"));
+        }
+        if let Some(r) = &self.release {
+            if !(r.length > 0.0 && r.length <= 20.0) {
+                return Err(invalid(f("release.length"), format!("must be in (0, 20] cells (the tip's travel while a new segment is released), got {}", r.length)));
+            }
+            if !(r.damping >= 0.0 && r.damping <= 10.0) {
+                return Err(invalid(f("release.damping"), format!("must be in [0, 10] (units of c_d/h), got {}", r.damping)));
+            }
         }
         if !any_toughness {
             return Err(invalid(field, "the crack may grow but no material has a `toughness` (criterion and kic)"));
@@ -1098,7 +1129,8 @@ impl Scene {
             .enumerate()
             .filter_map(|(c, spec)| {
                 let g = spec.fracture.as_ref()?.growth.as_ref()?;
-                let settings = GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed, speed_correction: g.speed_correction, speed_window: g.speed_window };
+                let release = g.release.map(|r| crate::fracture::release::ReleaseSettings { length: r.length, damping: r.damping });
+                let settings = GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed, speed_correction: g.speed_correction, speed_window: g.speed_window, release };
                 Some((c, requests[c].clone()?, settings))
             })
             .collect();

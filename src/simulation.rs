@@ -38,6 +38,9 @@ pub trait Dimension: Space {
     fn normal_gap(sim: &Simulation<Self>, c: usize, i: usize, n: Self::Vector) -> Option<f64>;
     /// Task 7: move the cracks in the centre-of-mass velocity field.
     fn task7_move_cracks(sim: &mut Simulation<Self>);
+    /// Hold the faces of new crack segments still in release on the forces of Task 3
+    /// ([`crate::fracture::release`]; 2D only).
+    fn hold_released(_sim: &mut Simulation<Self>) {}
     /// Crack propagation at the end of a step (only when the scene lets cracks grow).
     fn grow_cracks(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
     /// Checked mode: no particle crossed a crack.

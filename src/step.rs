@@ -60,6 +60,23 @@ macro_rules! simd {
     }};
 }
 
+/// `g3!(f::<A>(args))`: the explicit AVX2 gather `crate::gather3::f` (called only when
+/// `fast3d` gave the 3D simulation, i.e. on x86-64 with AVX2), its result as the generic
+/// step's type; unreachable elsewhere.
+macro_rules! g3 {
+    ($($call:tt)*) => {{
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: fast3d gives Some only when the CPU has AVX2.
+            unsafe { crate::gather3::$($call)* }.map(crate::gather3::same)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            unreachable!("gather3 runs on x86-64 only")
+        }
+    }};
+}
+
 /// `gather!(avx, rerun_avx, this.f::<CONST_ARGS>(args))`: the certified sums of one
 /// gather, the same bits whichever way they come: the fast sums ([`Fast`]), else the
 /// gather again with [`Exact`] accumulators (see [`fast_or_exact`]); the fast sums in their
@@ -115,6 +132,9 @@ impl<S: Dimension> Simulation<S> {
             Scheme::Usl | Scheme::Musl => {}
         }
         self.task3_forces();
+        if self.growth.is_some() {
+            S::hold_released(self);
+        }
         self.task4_update_momenta()?;
         self.task5_update_particles();
         match scheme {
@@ -217,8 +237,14 @@ impl<S: Dimension> Simulation<S> {
         let with_cracks = self.has_cracks();
         let nf = self.nodes.fields.len();
         let mut sums = std::mem::take(&mut self.scratch.mass);
-        let this = &*self;
         let avx = crate::simd::enabled();
+        let mut mv = std::mem::take(&mut self.scratch.mass_momentum);
+        let fast3 = if avx { fast3d(self) } else { None };
+        if let Some(d3) = fast3 {
+            #[cfg(target_arch = "x86_64")]
+            crate::gather3::fill_mass_momentum(d3, &mut mv);
+        }
+        let this = &*self;
         this.nodes
             .active
             .par_iter()
@@ -227,11 +253,20 @@ impl<S: Dimension> Simulation<S> {
             .map(|(a, &node)| {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MASS];
                 match (with_cracks, this.is_split(node)) {
-                    (false, _) | (true, false) => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
+                    (false, _) | (true, false) => match fast3 {
+                        Some(d3) => hinted(
+                            hint,
+                            || g3!(node_mass::<crate::gather3::Acc4>(d3, &mv, a)),
+                            || g3!(node_mass::<crate::gather3::Acc4x3>(d3, &mv, a)),
+                            || simd!(avx, avx2::node_mass::<S, Exact, false, false>(this, a), this.node_mass::<Exact, false, false>(a)),
+                        ),
+                        None => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
+                    },
                     (true, true) => gather_hinted!(avx, false, hint, this.node_mass::<true, true>(a)),
                 }
             })
             .collect_into_vec(&mut sums);
+        self.scratch.mass_momentum = mv;
         let nodes = &mut self.nodes;
         for (&node, g) in nodes.active.iter().zip(sums.iter()) {
             let i = node as usize;
@@ -287,24 +322,33 @@ impl<S: Dimension> Simulation<S> {
         scratch.chunk_nodes.resize_with(chunks, Vec::new);
         let (count, node) = (&pairs.count, &pairs.node);
         let stride = S::MAX_NODES;
-        let chunk_pairs = |c: usize| {
-            (c * per_chunk..((c + 1) * per_chunk).min(np)).flat_map(move |i| (i * stride..i * stride + count[i] as usize).map(move |k| (k, node[k] as usize)))
-        };
+        // Every pair (k, node) of chunk c, in order: nested loops over the particles and
+        // their node slices (a flat_map iterator costs about twice the instructions).
+        #[inline(always)]
+        fn for_chunk_pairs(count: &[u8], node: &[u32], stride: usize, range: std::ops::Range<usize>, mut f: impl FnMut(usize, usize)) {
+            for (i, &n) in count[range.clone()].iter().enumerate() {
+                let base = (range.start + i) * stride;
+                for (j, &nd) in node[base..base + n as usize].iter().enumerate() {
+                    f(base + j, nd as usize);
+                }
+            }
+        }
+        let chunk = |c: usize| c * per_chunk..((c + 1) * per_chunk).min(np);
         // The nodes each chunk touches first.
-        let marks = &scratch.marks;
+        let marks = &scratch.marks[..];
         scratch.chunk_nodes.par_iter_mut().enumerate().for_each(|(c, list)| {
             list.clear();
             // Which chunk claims a node first is a race between threads, so a list's
             // length varies from step to step: reserve its bound once, so the step never
             // allocates (tests/three_d_no_alloc.rs).
             list.reserve(nn.min(per_chunk * stride));
-            for (_, n) in chunk_pairs(c) {
+            for_chunk_pairs(count, node, stride, chunk(c), |_, n| {
                 // A plain load first: most pairs meet a node already marked, and the
                 // swap (a locked exchange) is needed only to claim a new one.
                 if !marks[n].load(Ordering::Relaxed) && !marks[n].swap(true, Ordering::Relaxed) {
                     list.push(n as u32);
                 }
-            }
+            });
         });
         // The active nodes, ascending, and their compact indices.
         let active = &mut self.nodes.active;
@@ -323,9 +367,10 @@ impl<S: Dimension> Simulation<S> {
         scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, counts)| {
             counts.clear();
             counts.resize(na, 0);
-            for (_, n) in chunk_pairs(c) {
-                counts[slot[n] as usize] += 1;
-            }
+            // Slices, not the Vecs: a store through a slice cannot change a Vec's pointer or
+            // length, so they are not reloaded per pair.
+            let (counts, slot) = (&mut counts[..], &slot[..]);
+            for_chunk_pairs(count, node, stride, chunk(c), |_, n| counts[slot[n] as usize] += 1);
         });
         // Offsets: the a-th active node's pairs are items[start[a]..start[a+1]], chunk by
         // chunk; the counts become each chunk's write cursors.
@@ -346,14 +391,28 @@ impl<S: Dimension> Simulation<S> {
         }
         let slots = &scratch.slots;
         scratch.chunk_counts.par_iter_mut().enumerate().for_each(|(c, cursor)| {
-            for (k, n) in chunk_pairs(c) {
+            let (cursor, slot, slots) = (&mut cursor[..], &slot[..], &slots[..]);
+            for_chunk_pairs(count, node, stride, chunk(c), |k, n| {
                 let a = slot[n] as usize;
                 slots[cursor[a] as usize].store(k as u32, Ordering::Relaxed);
                 cursor[a] += 1;
-            }
+            });
         });
         pairs.items.resize(total, 0);
-        pairs.items.par_iter_mut().zip(&slots[..total]).with_min_len(4096).for_each(|(item, slot)| *item = slot.load(Ordering::Relaxed));
+        // With each item its particle (item / MAX_NODES), which the 3D gathers of
+        // `crate::gather3` read instead of dividing once per pair and gather. Reserved to
+        // the most pairs there can be, so the resize never allocates.
+        let owner = &mut scratch.item_particle;
+        if owner.capacity() < np * stride {
+            owner.reserve(np * stride - owner.len());
+        }
+        owner.resize(total, 0);
+        (pairs.items.par_chunks_mut(4096), owner.par_chunks_mut(4096), slots[..total].par_chunks(4096)).into_par_iter().for_each(|(items, owners, slots)| {
+            for ((item, owner), slot) in items.iter_mut().zip(owners.iter_mut()).zip(slots) {
+                *item = slot.load(Ordering::Relaxed);
+                *owner = *item / stride as u32;
+            }
+        });
     }
 
     /// Task 2: boundary conditions on the nodal momenta of Task 1 (and, with cracks, contact).
@@ -407,8 +466,15 @@ impl<S: Dimension> Simulation<S> {
         let mut grads = std::mem::take(&mut self.scratch.grad_v);
         let this = &*self;
         let avx = crate::simd::enabled();
+        let fast3 = if avx { fast3d(this) } else { None };
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => gather!(avx, avx, this.velocity_gradient::<false>(i)),
+            false => match fast3 {
+                Some(d3) => fast_or_exact(
+                    || g3!(velocity_gradient(d3, i)),
+                    || simd!(avx, avx2::velocity_gradient::<S, Exact, false>(this, i), this.velocity_gradient::<Exact, false>(i)),
+                ),
+                None => gather!(avx, avx, this.velocity_gradient::<false>(i)),
+            },
             true => gather!(avx, false, this.velocity_gradient::<true>(i)),
         };
         // Velocity gradients first (reading the grid), then the particle updates.
@@ -439,9 +505,15 @@ impl<S: Dimension> Simulation<S> {
             self.mark_loaded_nodes(has_body);
         }
         let mut sums = std::mem::take(&mut self.scratch.force);
+        let avx = crate::simd::enabled();
+        let mut cols = std::mem::take(&mut self.scratch.stress_columns);
+        let fast3 = if avx { fast3d(self) } else { None };
+        if let Some(d3) = fast3 {
+            #[cfg(target_arch = "x86_64")]
+            crate::gather3::fill_stress_columns(d3, &mut cols);
+        }
         let this = &*self;
         let loaded = &self.scratch.loaded_nodes;
-        let avx = crate::simd::enabled();
         this.nodes
             .active
             .par_iter()
@@ -451,6 +523,12 @@ impl<S: Dimension> Simulation<S> {
                 let ext = has_ext && loaded[a];
                 let hint = &this.scratch.gather_hints[node as usize][HINT_FORCE];
                 match this.is_split(node) {
+                    false if !ext && fast3.is_some() => hinted(
+                        hint,
+                        || g3!(node_forces::<crate::gather3::Acc4>(fast3.unwrap(), &cols, a)),
+                        || g3!(node_forces::<crate::gather3::Acc4x3>(fast3.unwrap(), &cols, a)),
+                        || simd!(avx, avx2::node_forces::<S, Exact, false>(this, a, ext, has_body), this.node_forces::<Exact, false>(a, ext, has_body)),
+                    ),
                     false => gather_hinted!(avx, avx, hint, this.node_forces::<false>(a, ext, has_body)),
                     true => gather_hinted!(avx, false, hint, this.node_forces::<true>(a, ext, has_body)),
                 }
@@ -470,6 +548,7 @@ impl<S: Dimension> Simulation<S> {
             }
         }
         self.scratch.force = sums;
+        self.scratch.stress_columns = cols;
         // Fixed directions do not accelerate.
         for &node in &self.bcs.nodes {
             let i = node as usize;
@@ -569,8 +648,15 @@ impl<S: Dimension> Simulation<S> {
         let mut incs = std::mem::take(&mut self.scratch.increments);
         let this = &*self;
         let avx = crate::simd::enabled();
+        let fast3 = if avx { fast3d(this) } else { None };
         let increments = |i: usize| match with_cracks && this.is_split_particle(i) {
-            false => gather!(avx, avx, this.particle_increments::<false>(i)),
+            false => match fast3 {
+                Some(d3) => fast_or_exact(
+                    || g3!(particle_increments(d3, i)),
+                    || simd!(avx, avx2::particle_increments::<S, Exact, false>(this, i), this.particle_increments::<Exact, false>(i)),
+                ),
+                None => gather!(avx, avx, this.particle_increments::<false>(i)),
+            },
             true => gather!(avx, false, this.particle_increments::<true>(i)),
         };
         (0..self.particles.len()).into_par_iter().with_min_len(PARTICLE_CHUNK).map(increments).collect_into_vec(&mut incs);
@@ -619,8 +705,14 @@ impl<S: Dimension> Simulation<S> {
     fn task6c_reextrapolate(&mut self) -> Result<(), CheckError> {
         let nf = self.nodes.fields.len();
         let mut sums = std::mem::take(&mut self.scratch.momentum);
-        let this = &*self;
         let avx = crate::simd::enabled();
+        let mut mv = std::mem::take(&mut self.scratch.mass_momentum);
+        let fast3 = if avx { fast3d(self) } else { None };
+        if let Some(d3) = fast3 {
+            #[cfg(target_arch = "x86_64")]
+            crate::gather3::fill_mass_momentum(d3, &mut mv);
+        }
+        let this = &*self;
         this.nodes
             .active
             .par_iter()
@@ -629,6 +721,12 @@ impl<S: Dimension> Simulation<S> {
             .map(|(a, &node)| {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MOMENTUM];
                 match this.is_split(node) {
+                    false if fast3.is_some() => hinted(
+                        hint,
+                        || g3!(node_momentum::<crate::gather3::Acc4>(fast3.unwrap(), &mv, a)),
+                        || g3!(node_momentum::<crate::gather3::Acc4x3>(fast3.unwrap(), &mv, a)),
+                        || simd!(avx, avx2::node_momentum::<S, Exact, false>(this, a), this.node_momentum::<Exact, false>(a)),
+                    ),
                     false => gather_hinted!(avx, avx, hint, this.node_momentum::<false>(a)),
                     true => gather_hinted!(avx, false, hint, this.node_momentum::<true>(a)),
                 }
@@ -644,6 +742,7 @@ impl<S: Dimension> Simulation<S> {
             }
         }
         self.scratch.momentum = sums;
+        self.scratch.mass_momentum = mv;
         self.apply_momentum_bcs();
         if self.has_cracks() {
             S::contact_momenta(self)?;
@@ -1036,10 +1135,19 @@ fn hinted<T>(hint: &AtomicU8, fast: impl FnOnce() -> Option<T>, three: impl FnOn
             return v;
         }
         hint.store(HINT_STEPS, Ordering::Relaxed);
-        return exact().expect("ExactSum always certifies its sums");
+        return rerun(exact).expect("ExactSum always certifies its sums");
     }
     hint.store(steps - 1, Ordering::Relaxed);
-    three().or_else(exact).expect("ExactSum always certifies its sums")
+    three().or_else(|| rerun(exact)).expect("ExactSum always certifies its sums")
+}
+
+/// Run a gather's exact rerun out of line: its [`Exact`] accumulators keep their terms
+/// (tens of kilobytes of stack), which inlined into the caller made every call of the
+/// gather probe that stack, page by page, rerun or not.
+#[cold]
+#[inline(never)]
+fn rerun<T>(exact: impl FnOnce() -> Option<T>) -> Option<T> {
+    exact()
 }
 
 /// The fast sums if they certify their results, else the gather again with [`Exact`]
@@ -1047,7 +1155,7 @@ fn hinted<T>(hint: &AtomicU8, fast: impl FnOnce() -> Option<T>, three: impl FnOn
 /// Both give the correctly rounded sums, so the bits do not depend on which was used.
 #[inline(always)]
 fn fast_or_exact<T>(fast: impl FnOnce() -> Option<T>, exact: impl FnOnce() -> Option<T>) -> T {
-    fast().or_else(exact).expect("ExactSum always certifies its sums")
+    fast().or_else(|| rerun(exact)).expect("ExactSum always certifies its sums")
 }
 
 /// Copies of the gathers (fast and rerun, `K`) and of the shape functions compiled with
@@ -1086,6 +1194,20 @@ mod avx2 {
     #[target_feature(enable = "avx2")]
     pub(super) fn weights_into<S: Space>(grid: &S::Grid, kind: ShapeKind, x: &S::Vector, lp: &S::Vector, node: &mut [u32], s: &mut [f64], g: &mut [S::Vector]) -> usize {
         S::weights_into(grid, kind, x, lp, node, s, g)
+    }
+}
+
+/// The simulation as a 3D one whose crack-free gathers run the explicit AVX2 code of
+/// [`crate::gather3`] (the caller has checked that the CPU has AVX2), or None (2D).
+#[inline(always)]
+fn fast3d<S: Dimension>(sim: &Simulation<S>) -> Option<&Simulation<crate::dim::D3>> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        crate::gather3::as_d3(sim)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        None
     }
 }
 
@@ -1152,6 +1274,12 @@ pub struct Scratch<S: Space> {
     pub momentum: Vec<[S::Vector; MAX_FIELDS]>,
     pub grad_v: Vec<S::Tensor>,
     pub increments: Vec<(S::Vector, S::Vector)>,
+    /// 3D gathers ([`crate::gather3`]): per particle (m, m·v) for Tasks 1 and 6c, and the
+    /// stress columns and −V for Task 3.
+    pub mass_momentum: Vec<[f64; 4]>,
+    pub stress_columns: Vec<[[f64; 4]; 4]>,
+    /// CSR build: the particle of each entry of `pairs.items` (item / MAX_NODES).
+    pub item_particle: Vec<u32>,
     /// CSR build: pairs per active node of each particle chunk, then the chunks' write cursors.
     pub chunk_counts: Vec<Vec<u32>>,
     /// CSR build: the nodes each particle chunk touched first.
@@ -1205,6 +1333,9 @@ impl<S: Space> Default for Scratch<S> {
             momentum: Vec::new(),
             grad_v: Vec::new(),
             increments: Vec::new(),
+            mass_momentum: Vec::new(),
+            stress_columns: Vec::new(),
+            item_particle: Vec::new(),
             chunk_counts: Vec::new(),
             chunk_nodes: Vec::new(),
             marks: Vec::new(),

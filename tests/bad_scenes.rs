@@ -334,6 +334,13 @@ fn crack_growth_settings_and_toughness() {
     expect(&with_toughness("speed_correction = 1"), &["speed_correction"]);
     expect(&with_toughness("speed_window = 2.5"), &["speed_window"]);
     assert!(Scene::from_toml(&with_toughness("speed_correction = true, speed_window = 2"), "ok").unwrap().build().is_ok());
+    // the gradual release of new segments: its length and damping, each named
+    assert!(Scene::from_toml(&with_toughness("release = {}"), "ok").unwrap().build().is_ok());
+    assert!(Scene::from_toml(&with_toughness("release = { length = 2.5, damping = 0.0 }"), "ok").unwrap().build().is_ok());
+    assert_eq!(invalid_field(&with_toughness("release = { length = 0.0 }")), "cracks[0].fracture.growth.release.length");
+    assert_eq!(invalid_field(&with_toughness("release = { length = 1e9 }")), "cracks[0].fracture.growth.release.length");
+    assert_eq!(invalid_field(&with_toughness("release = { damping = -1.0 }")), "cracks[0].fracture.growth.release.damping");
+    expect(&with_toughness("release = { time = 1.0 }"), &["time"]);
     let bad_kic = with_toughness("").replace("kic = 1.0", "kic = -2.0");
     assert_eq!(invalid_field(&bad_kic), "materials[0].toughness.kic");
     // a toughness without its criterion, or an unknown criterion, is a parse error naming it

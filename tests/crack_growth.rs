@@ -137,7 +137,32 @@ fn a_crack_reaching_the_edge_stops_and_the_body_splits() {
 
 #[test]
 fn growth_is_identical_after_shuffling_particles() {
-    let scene = three_point_bend(4.0, 0.1, "max_hoop_stress", 0.17).load().unwrap();
+    shuffled_growth_is_identical(three_point_bend(4.0, 0.1, "max_hoop_stress", 0.17).load().unwrap());
+}
+
+/// The same with each new segment released gradually (`growth.release`, issue 20), and
+/// on one thread against the default pool: the holding forces act at nodes chosen by
+/// crack geometry alone, serially.
+#[test]
+fn released_growth_is_identical_after_shuffling_particles_and_on_one_thread() {
+    let scene = three_point_bend(4.0, 0.1, "max_hoop_stress", 0.17).set("cracks.0.fracture.growth.release", "{}").load().unwrap();
+    let (pa, ra) = shuffled_growth_is_identical(scene.clone());
+    let mut one = scene.build().unwrap();
+    rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| one.run_until(0.17, |_| {})).unwrap();
+    assert_eq!((pa, ra), growth_bits(&one));
+}
+
+fn growth_bits(s: &cramp::simulation::Simulation) -> (Vec<u64>, Vec<u64>) {
+    let c = &s.cracks[0];
+    let g = s.growth.as_ref().unwrap();
+    let pts: Vec<u64> = c.points.iter().chain(&c.above).chain(&c.below).flat_map(|p| [p.x.to_bits(), p.y.to_bits()]).collect();
+    let recs: Vec<u64> = g.records.iter().flat_map(|r| [r.fracture.j1.to_bits(), r.fracture.k1.to_bits(), r.fracture.k2.to_bits(), r.theta.to_bits(), r.speed.to_bits()]).collect();
+    (pts, recs)
+}
+
+/// Run `scene` to 0.17 ms as built and with its particles permuted; the crack and every
+/// growth record must agree to the bit. Returns the bits.
+fn shuffled_growth_is_identical(scene: cramp::scene::Scene) -> (Vec<u64>, Vec<u64>) {
     let mut a = scene.build().unwrap();
     let mut b = a.clone();
     let n = b.particles.len();
@@ -147,16 +172,10 @@ fn growth_is_identical_after_shuffling_particles() {
     b.particles.permute(&perm);
     a.run_until(0.17, |_| {}).unwrap();
     b.run_until(0.17, |_| {}).unwrap();
-    let bits = |s: &cramp::simulation::Simulation| {
-        let c = &s.cracks[0];
-        let g = s.growth.as_ref().unwrap();
-        let pts: Vec<u64> = c.points.iter().chain(&c.above).chain(&c.below).flat_map(|p| [p.x.to_bits(), p.y.to_bits()]).collect();
-        let recs: Vec<u64> = g.records.iter().flat_map(|r| [r.fracture.j1.to_bits(), r.fracture.k1.to_bits(), r.fracture.k2.to_bits(), r.theta.to_bits(), r.speed.to_bits()]).collect();
-        (pts, recs)
-    };
-    let (pa, ra) = bits(&a);
+    let (pa, ra) = growth_bits(&a);
     assert!(a.growth.as_ref().unwrap().records.iter().filter(|r| r.grew).count() >= 3, "the crack must have grown");
-    assert_eq!((pa, ra), bits(&b));
+    assert_eq!((pa.clone(), ra.clone()), growth_bits(&b));
+    (pa, ra)
 }
 
 /// A centre crack on the grid line y = 0 (h = 1) whose end has just kinked by −60°

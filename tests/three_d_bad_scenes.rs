@@ -252,6 +252,9 @@ fn bad_fracture_tables_and_unknown_detection_are_refused_in_3d() {
     expect_invalid(&fr(""), None, "cracks[0].fracture.nodes", &["no front node"]);
     // Both detections exist in 3D ("opening", the default, and "volume"); others do not.
     expect_message(&with_crack(&format!("{GOOD_CRACK}\ndetection = \"gap\"")), &["gap", "volume", "opening"]);
+    // The gradual release of new segments is 2D only.
+    let tough = fr("growth = { release = {} }").replacen("rho = 1.0", "rho = 1.0\ntoughness = { criterion = \"max_hoop_stress\", kic = 1.0 }", 1);
+    expect_invalid(&tough, None, "cracks[0].fracture.growth.release", &["2D only"]);
 }
 
 #[test]

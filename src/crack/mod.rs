@@ -310,6 +310,9 @@ impl crate::simulation::Dimension for crate::dim::D2 {
     fn task7_move_cracks(sim: &mut Simulation) {
         sim.task7_move_cracks()
     }
+    fn hold_released(sim: &mut Simulation) {
+        sim.hold_released()
+    }
     fn grow_cracks(sim: &mut Simulation) -> Result<(), CheckError> {
         sim.grow_cracks().map_err(|error| CheckError::Growth { step: sim.step_count, error })
     }
@@ -676,7 +679,7 @@ fn nearest_segment_normal(points: &[Vector], index: &geometry::SegmentIndex, x: 
 }
 
 /// (squared distance, point) of the point of segment [a, b] nearest `x`.
-fn nearest_on_segment(a: Vector, b: Vector, x: Vector) -> (f64, Vector) {
+pub(crate) fn nearest_on_segment(a: Vector, b: Vector, x: Vector) -> (f64, Vector) {
     let d = b - a;
     let l2 = d.norm_squared();
     let t = if l2 > 0.0 { ((x - a).dot(&d) / l2).clamp(0.0, 1.0) } else { 0.0 };

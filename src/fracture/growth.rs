@@ -116,6 +116,8 @@ pub struct GrowthSettings {
     pub speed_correction: bool,
     /// Number of past increments the tip-speed estimate spans (default [`SPEED_WINDOW`]).
     pub speed_window: usize,
+    /// Gradual release of new segments ([`crate::fracture::release`]); None: at once.
+    pub release: Option<crate::fracture::release::ReleaseSettings>,
 }
 
 impl GrowthSettings {
@@ -316,6 +318,8 @@ pub struct Growth {
     pub cracks: Vec<CrackGrowth>,
     /// Every evaluation so far, in order.
     pub records: Vec<GrowthRecord>,
+    /// New segments whose faces are still held ([`crate::fracture::release`]).
+    pub releases: Vec<crate::fracture::release::Release>,
 }
 
 impl Growth {
@@ -330,7 +334,7 @@ impl Growth {
                 CrackGrowth { crack: c, request, settings, tips, initial_length, split: None }
             })
             .collect();
-        Growth { toughness, cracks, records: Vec::new() }
+        Growth { toughness, cracks, records: Vec::new(), releases: Vec::new() }
     }
 
     /// Does crack `c` grow?
@@ -423,6 +427,15 @@ impl Simulation {
                         let tip = &mut cg.tips[k];
                         tip.status = status;
                         if added > 0.0 {
+                            if end == TipEnd::Start {
+                                growth.releases.iter_mut().filter(|r| r.crack == c).for_each(|r| r.segment += 1);
+                            }
+                            if let Some(rs) = cg.settings.release {
+                                let segment = if end == TipEnd::Start { 0 } else { self.cracks[c].points.len() - 2 };
+                                let speed = speed_estimate(&tip.events, tip.advance, self.time, Some(added), cg.settings.speed_window);
+                                let (duration, rate) = rs.timing(h, speed, c_r, crate::material::Constitutive::wave_speed(&self.materials[mat]));
+                                growth.releases.push(crate::fracture::release::Release { crack: c, segment, t0: self.time, duration, rate });
+                            }
                             tip.advance += added;
                             tip.events.push((self.time, tip.advance));
                             grew = true;
@@ -594,7 +607,7 @@ mod tests {
 
     #[test]
     fn k_speed_is_the_estimate_only_with_speed_correction() {
-        let mut g = GrowthSettings { increment: 0.5, every: 1, max_speed: None, speed_correction: false, speed_window: SPEED_WINDOW };
+        let mut g = GrowthSettings { increment: 0.5, every: 1, max_speed: None, speed_correction: false, speed_window: SPEED_WINDOW, release: None };
         assert_eq!(g.k_speed(123.0), 0.0);
         g.speed_correction = true;
         assert_eq!(g.k_speed(123.0), 123.0);

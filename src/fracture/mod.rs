@@ -6,5 +6,6 @@ pub mod growth;
 pub mod growth3;
 pub mod jintegral;
 pub mod nodal;
+pub mod release;
 pub mod speed;
 pub mod williams;

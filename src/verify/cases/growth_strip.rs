@@ -200,10 +200,28 @@ pub fn binned(recs: &[GrowthRecord], g0: f64, width: f64) -> Vec<(f64, f64)> {
 
 /// One growing run: its [`Steady`] over the window, the note, and the binned J series.
 fn growing(h: f64, length: f64, fraction: f64, faces: Faces, end: f64) -> anyhow::Result<(Steady, String, Series)> {
-    let (r, wall) = run_growth_file(&strip(h, length, Some(fraction), faces, end), false)?;
+    growing_file(strip(h, length, Some(fraction), faces, end), h, fraction, end, label(h, fraction, faces))
+}
+
+/// The strip of [`strip`] (opening-detected contact) with each new segment released
+/// gradually ([`crate::fracture::release`], default length and damping) and the J contour
+/// at [`RELEASE_CONTOUR`] cells, which encloses most of the held faces.
+pub fn strip_released(h: f64, length: f64, fraction: f64, end: f64) -> SceneFile {
+    strip(h, length, Some(fraction), Faces::Opening, end).set("cracks.0.fracture.contour", RELEASE_CONTOUR).set("cracks.0.fracture.growth.release", "{}")
+}
+
+/// Half-width (cells) of the J contour of the released runs: the default release length
+/// (4 cells) plus one.
+pub const RELEASE_CONTOUR: usize = 5;
+
+fn growing_released(h: f64, length: f64, fraction: f64, end: f64) -> anyhow::Result<(Steady, String, Series)> {
+    growing_file(strip_released(h, length, fraction, end), h, fraction, end, format!("h = {h} mm, v = {fraction} c_R, released over 4 cells"))
+}
+
+fn growing_file(file: SceneFile, h: f64, fraction: f64, end: f64, label: String) -> anyhow::Result<(Steady, String, Series)> {
+    let (r, wall) = run_growth_file(&file, false)?;
     let to = end - 0.005;
     let s = steady(&r, h, fraction, to);
-    let label = label(h, fraction, faces);
     let note = format!(
         "{label}: speed {:.3} c_R over {} increments in {WINDOW_FROM}–{to} ms; J/(2H·W0): mean {:.3}, just before an increment {:.3}; per 2H·W0 and unit of the prescribed growth: Δ(W − U − T − D) {:+.4}, −ΔU {:.3}, ΔT {:.3}; {wall:.1} s wall (unchecked)",
         s.speed, s.increments, s.j_mean, s.j_before_increment, s.balance, s.strain_released, s.kinetic_gained
@@ -266,6 +284,12 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
         out.note(note);
         series.push(line);
     }
+    // One run with each new segment released gradually (growth_strip_j has all four).
+    let (s, note, line) = growing_released(1.0, length, 0.4, end)?;
+    out.measure("released_j", "h = 1 mm, v = 0.4 c_R", s.j_mean, 1.0);
+    out.measure("released_j_is_g", "h = 1 mm, v = 0.4 c_R", s.j_mean, -s.balance);
+    out.note(note);
+    series.push(line);
     j_figure(&mut out, "growth_strip_j.png", series, end);
     Ok(out)
 }
@@ -292,6 +316,16 @@ pub fn run_j(variant: Variant) -> anyhow::Result<CaseOutput> {
             }
             Faces::Volume => out.measure("contact_energy_volume", &label, s.balance, 0.0),
         }
+        out.note(note);
+        series.push(line);
+    }
+    // The same runs with each new segment released gradually (issue 20 item 2): J against
+    // 2H·W0 and against the run's own energy balance, G = −Δ(W − U − T − D)/Δa.
+    for (h, fraction) in [(1.0, 0.2), (1.0, 0.4), (1.0, 0.6), (0.5, 0.4)] {
+        let (s, note, line) = growing_released(h, length, fraction, end)?;
+        let label = format!("h = {h} mm, v = {fraction} c_R");
+        out.measure("released_j", &label, s.j_mean, 1.0);
+        out.measure("released_j_is_g", &label, s.j_mean, -s.balance);
         out.note(note);
         series.push(line);
     }

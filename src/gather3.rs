@@ -1,0 +1,345 @@
+//! The fast sums of the 3D step's hot gathers written with explicit AVX2 intrinsics
+//! (issue 14), for the pairs no crack splits (every pair in field 0, share 1).
+//!
+//! Each function is the [`crate::exact::Fast`] instance of a gather in `step.rs`
+//! (`node_mass::<_, false, false>`, `node_forces::<_, false>` without external terms,
+//! `node_momentum::<_, false>`, `velocity_gradient::<_, false>`,
+//! `particle_increments::<_, false>`), computing the same terms with the same IEEE
+//! operations in the same order, and accumulating them with the operations of
+//! [`crate::exact::FastSum`]'s `add` (TwoSum, compensation, Σ|x|, min |x|), lane by lane,
+//! four lanes to a `__m256d` kept in registers. Its certificate is that of
+//! `FastSum::certified` (both tests, on the same values: [`certify4`]); when it fails,
+//! the caller reruns the generic gather with three-level or exact sums, as before. A
+//! certified sum is the correctly rounded one, so these functions move no bit.
+//!
+//! What makes them cheaper than the generic AVX2 copies (which LLVM vectorises with lane
+//! shuffles and accumulators on the stack): the lanes of a pair are built as whole
+//! vectors, and the per-particle factors the node gathers share are formed once per step
+//! ([`fill_mass_momentum`]: m and m·v, whose products with S are the mass and momentum
+//! terms, (m·v_c)·S as in the generic code; [`fill_stress_columns`]: the columns of σ
+//! and −V, whose products with G give −(V·(σ·G)) with σ·G summed as `Sym3::dot_vec` does;
+//! negation is exact, so (−V)·t = −(V·t) to the bit).
+//!
+//! Padding lanes (the fourth of a 3-vector) carry ±0 terms (a zero mask load times a
+//! factor) and are not certified or read.
+#![cfg(target_arch = "x86_64")]
+
+use crate::dim::{Sym3, Tensor3, Vector3, D3};
+use crate::grid::MAX_FIELDS;
+use crate::simulation::{Dimension, Simulation};
+use crate::step::{NodeForce, NodeMass};
+use std::any::TypeId;
+use std::arch::x86_64::*;
+
+/// The simulation as a 3D one, when `S` is [`D3`] (a test of type identities, which the
+/// compiler folds per instance).
+#[inline(always)]
+pub(crate) fn as_d3<S: Dimension>(sim: &crate::simulation::Simulation<S>) -> Option<&Simulation<D3>> {
+    if TypeId::of::<S>() == TypeId::of::<D3>() {
+        // SAFETY: S is D3, so the two types are the same.
+        Some(unsafe { &*(sim as *const Simulation<S> as *const Simulation<D3>) })
+    } else {
+        None
+    }
+}
+
+/// `x` as `B`, which is `A` (asserted; the generic step hands D3 results back as its `S`
+/// types).
+#[inline(always)]
+pub(crate) fn same<A: 'static + Copy, B: 'static + Copy>(x: A) -> B {
+    assert!(TypeId::of::<A>() == TypeId::of::<B>());
+    // SAFETY: A and B are the same type.
+    unsafe { std::mem::transmute_copy(&x) }
+}
+
+/// Four lanes of a certified compensated sum.
+pub(crate) trait Sum4: Copy {
+    unsafe fn new() -> Self;
+    unsafe fn add(&mut self, x: __m256d);
+    /// The certified sums of the first `lanes` lanes of each accumulator in `acc` (n
+    /// terms each), or None if one of them is not certified.
+    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Self; V]) -> Option<[[f64; 4]; V]>;
+}
+
+/// Four lanes of [`crate::exact::FastSum`]: running sum, compensation, Σ|x|, min |x|.
+#[derive(Clone, Copy)]
+pub(crate) struct Acc4 {
+    s: __m256d,
+    c: __m256d,
+    a: __m256d,
+    m: __m256d,
+}
+
+impl Sum4 for Acc4 {
+    #[inline(always)]
+    unsafe fn new() -> Self {
+        Acc4 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
+    }
+
+    /// `FastSum::add` on four lanes: the same operations in the same order.
+    #[inline(always)]
+    unsafe fn add(&mut self, x: __m256d) {
+        let s0 = self.s;
+        let s = _mm256_add_pd(s0, x);
+        let bb = _mm256_sub_pd(s, s0);
+        let t = _mm256_add_pd(_mm256_sub_pd(s0, _mm256_sub_pd(s, bb)), _mm256_sub_pd(x, bb));
+        self.s = s;
+        self.c = _mm256_add_pd(self.c, t);
+        let ax = _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
+        self.a = _mm256_add_pd(self.a, ax);
+        // minpd(ax, m) = ax < m ? ax : m, the select of FastSum::add (m kept for a NaN ax).
+        self.m = _mm256_min_pd(ax, self.m);
+    }
+
+    /// As `FastSum::certified` gives them ([`certify4`]).
+    #[inline(always)]
+    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4; V]) -> Option<[[f64; 4]; V]> {
+        let mut out = [[0.0; 4]; V];
+        if n == 0 {
+            return Some(out);
+        }
+        if n > 1 << 20 {
+            return None;
+        }
+        let nf = n as f64;
+        let n2 = _mm256_set1_pd(nf * nf);
+        let want = (1 << lanes) - 1;
+        let mut ok = true;
+        for (o, a) in out.iter_mut().zip(acc) {
+            let (sum, mask) = certify4(a, n2);
+            _mm256_storeu_pd(o.as_mut_ptr(), sum);
+            ok &= mask & want == want;
+        }
+        ok.then_some(out)
+    }
+}
+
+/// Four lanes of [`crate::exact::FastSum3`] (the three-level sums that certify the
+/// cancelling sums of mirror-plane nodes): running sum, compensation c, its error d,
+/// Σ|x|, the smallest non-zero |x|; `FastSum3::add`'s operations in its order.
+#[derive(Clone, Copy)]
+pub(crate) struct Acc4x3 {
+    s: __m256d,
+    c: __m256d,
+    d: __m256d,
+    a: __m256d,
+    m: __m256d,
+}
+
+impl Sum4 for Acc4x3 {
+    #[inline(always)]
+    unsafe fn new() -> Self {
+        Acc4x3 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), d: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
+    }
+
+    #[inline(always)]
+    unsafe fn add(&mut self, x: __m256d) {
+        let s0 = self.s;
+        let s = _mm256_add_pd(s0, x);
+        let bb = _mm256_sub_pd(s, s0);
+        let t = _mm256_add_pd(_mm256_sub_pd(s0, _mm256_sub_pd(s, bb)), _mm256_sub_pd(x, bb));
+        self.s = s;
+        let c0 = self.c;
+        let c = _mm256_add_pd(c0, t);
+        let bc = _mm256_sub_pd(c, c0);
+        self.d = _mm256_add_pd(self.d, _mm256_add_pd(_mm256_sub_pd(c0, _mm256_sub_pd(c, bc)), _mm256_sub_pd(t, bc)));
+        self.c = c;
+        let ax = _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
+        self.a = _mm256_add_pd(self.a, ax);
+        // ax < m && ax != 0 ? ax : m.
+        let take = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(ax, self.m), _mm256_cmp_pd::<_CMP_NEQ_UQ>(ax, _mm256_setzero_pd()));
+        self.m = _mm256_blendv_pd(self.m, ax, take);
+    }
+
+    /// `FastSum3::certified`, lane by lane (`certify`, else `certify3`).
+    #[inline(always)]
+    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4x3; V]) -> Option<[[f64; 4]; V]> {
+        let mut out = [[0.0; 4]; V];
+        for (o, x) in out.iter_mut().zip(acc) {
+            let mut p = [[0.0; 4]; 5];
+            for (q, v) in p.iter_mut().zip([x.s, x.c, x.d, x.a, x.m]) {
+                _mm256_storeu_pd(q.as_mut_ptr(), v);
+            }
+            for k in 0..lanes {
+                let n = n as u32;
+                o[k] = crate::exact::certify(p[0][k], p[1][k], p[3][k], p[4][k], n).or_else(|| crate::exact::certify3(p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], n))?;
+            }
+        }
+        Some(out)
+    }
+}
+
+/// `FastSum::certified` on the four lanes of `acc` (n ≥ 1 terms, n² = `n2`), written with
+/// intrinsics: the same two certificates on the same values, so the same verdicts.
+/// Returns the sums and the bit mask of the lanes certified.
+#[inline(always)]
+unsafe fn certify4(acc: &Acc4, n2: __m256d) -> (__m256d, i32) {
+    let (s, c, a, m) = (acc.s, acc.c, acc.a, acc.m);
+    let p2 = |k: i32| _mm256_set1_pd(f64::from_bits(((1023 + k) as u64) << 52));
+    let db = _mm256_mul_pd(n2, _mm256_mul_pd(p2(-104), a));
+    // TwoSum(s, c) = (r, t2).
+    let r = _mm256_add_pd(s, c);
+    let bb = _mm256_sub_pd(r, s);
+    let t2 = _mm256_add_pd(_mm256_sub_pd(s, _mm256_sub_pd(r, bb)), _mm256_sub_pd(c, bb));
+    let in_range = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GE_OQ>(a, p2(-800)), _mm256_cmp_pd::<_CMP_LE_OQ>(a, p2(1000)));
+    // 1. δ = 0.
+    let exact = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GE_OQ>(m, p2(-900)), _mm256_cmp_pd::<_CMP_LT_OQ>(db, _mm256_mul_pd(m, p2(-53))));
+    // 2. Inside the rounding interval, h from r's bits as in FastSum::certified.
+    let frac = _mm256_set1_epi64x(((1u64 << 52) - 1) as i64);
+    let bits = _mm256_andnot_si256(_mm256_set1_epi64x(i64::MIN), _mm256_castpd_si256(r));
+    let pow2_frac = _mm256_cmpeq_epi64(_mm256_and_si256(bits, frac), _mm256_setzero_si256());
+    let drop = _mm256_blendv_epi8(_mm256_set1_epi64x(53 << 52), _mm256_set1_epi64x(54 << 52), pow2_frac);
+    let h = _mm256_castsi256_pd(_mm256_sub_epi64(_mm256_andnot_si256(frac, bits), drop));
+    let big = _mm256_cmpgt_epi64(bits, _mm256_set1_epi64x((((1023 - 900) as i64) << 52) - 1));
+    let abs_t2 = _mm256_andnot_pd(_mm256_set1_pd(-0.0), t2);
+    let inside = _mm256_and_pd(_mm256_castsi256_pd(big), _mm256_cmp_pd::<_CMP_LT_OQ>(_mm256_add_pd(db, db), _mm256_sub_pd(h, abs_t2)));
+    // All terms ±0: their IEEE sum s.
+    let zeros = _mm256_cmp_pd::<_CMP_EQ_OQ>(a, _mm256_setzero_pd());
+    let out = _mm256_blendv_pd(r, s, zeros);
+    let ok = _mm256_or_pd(zeros, _mm256_and_pd(in_range, _mm256_or_pd(exact, inside)));
+    (out, _mm256_movemask_pd(ok))
+}
+
+/// Load a 3-vector as (x, y, z, 0).
+#[inline(always)]
+unsafe fn load3(p: *const f64) -> __m256d {
+    _mm256_maskload_pd(p, _mm256_setr_epi64x(-1, -1, -1, 0))
+}
+
+/// Per particle, (m, m·v_x, m·v_y, m·v_z): the factors of the mass and momentum terms.
+pub(crate) fn fill_mass_momentum(sim: &Simulation<D3>, out: &mut Vec<[f64; 4]>) {
+    use rayon::prelude::*;
+    let p = &sim.particles;
+    out.resize(p.len(), [0.0; 4]);
+    (out.par_iter_mut(), p.mass.par_iter(), p.v.par_iter()).into_par_iter().with_min_len(crate::step::PARTICLE_CHUNK).for_each(|(o, &m, v)| {
+        *o = [m, m * v.x, m * v.y, m * v.z];
+    });
+}
+
+/// Per particle, the columns of σ (x, y, z; padded with 0) and −V in all four lanes: the
+/// factors of the internal force terms.
+pub(crate) fn fill_stress_columns(sim: &Simulation<D3>, out: &mut Vec<[[f64; 4]; 4]>) {
+    use rayon::prelude::*;
+    let p = &sim.particles;
+    out.resize(p.len(), [[0.0; 4]; 4]);
+    (out.par_iter_mut(), p.stress.par_iter(), p.vol0.par_iter()).into_par_iter().with_min_len(crate::step::PARTICLE_CHUNK).for_each(|(o, s, &v0)| {
+        let s: &Sym3 = s;
+        *o = [[s.xx, s.xy, s.xz, 0.0], [s.xy, s.yy, s.yz, 0.0], [s.xz, s.yz, s.zz, 0.0], [-v0; 4]];
+    });
+}
+
+/// The four lanes (m·S, (m·v)·S) of the active node `a` summed over its pairs, from the
+/// factors of [`fill_mass_momentum`], and the number of terms: the loop [`node_mass`] and
+/// [`node_momentum`] share.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn mass_momentum_sum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> (A, usize) {
+    let pairs = &sim.pairs;
+    let items = pairs.of_active(a);
+    let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
+    let mut acc = A::new();
+    let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
+    for (&item, &pp) in items.iter().zip(owner) {
+        let (item, pp) = (item as usize, pp as usize);
+        debug_assert!(item < pairs.s.len() && pp == item / 27 && pp < sim.particles.len());
+        acc.add(_mm256_mul_pd(_mm256_loadu_pd((*mv.add(pp)).as_ptr()), _mm256_broadcast_sd(&*s.add(item))));
+    }
+    (acc, items.len())
+}
+
+/// `node_mass::<Fast, false, false>` of the active node `a`, from the factors of
+/// [`fill_mass_momentum`]: lanes (m·S, (m·v)·S).
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<NodeMass<Vector3>> {
+    let (acc, n) = mass_momentum_sum::<A>(sim, mv, a);
+    let [l] = A::certified(n, 4, &[acc])?;
+    let mut out = NodeMass { present: if n == 0 { 0 } else { 1 }, ..Default::default() };
+    out.mass[0] = l[0];
+    out.mom[0] = Vector3::new(l[1], l[2], l[3]);
+    out.volume = f64::NAN;
+    Some(out)
+}
+
+/// `node_momentum::<Fast, false>` of the active node `a`: lanes (m·v)·S, from the factors
+/// of [`fill_mass_momentum`] (the mass lane is formed and left unread).
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_momentum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<[Vector3; MAX_FIELDS]> {
+    let (acc, n) = mass_momentum_sum::<A>(sim, mv, a);
+    let mut out = [Vector3::zeros(); MAX_FIELDS];
+    if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
+        let [l] = A::certified(n, 4, &[acc])?;
+        out[0] = Vector3::new(l[1], l[2], l[3]);
+    }
+    Some(out)
+}
+
+/// `node_forces::<Fast, false>` of the active node `a` at a node without external force
+/// terms: lanes (−V)·(σ·G), σ·G = (σ_x G_x + σ_y G_y) + σ_z G_z by columns, from the
+/// factors of [`fill_stress_columns`]; the external force +0.
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize) -> Option<NodeForce<Vector3>> {
+    let pairs = &sim.pairs;
+    let items = pairs.of_active(a);
+    let (g, cols) = (pairs.g.as_ptr() as *const f64, cols.as_ptr());
+    let mut acc = A::new();
+    let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
+    for (&item, &pp) in items.iter().zip(owner) {
+        let (item, pp) = (item as usize, pp as usize);
+        debug_assert!(item < pairs.g.len() && pp == item / 27 && pp < sim.particles.len());
+        let c = &*cols.add(pp);
+        let gp = g.add(3 * item);
+        let t = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(c[0].as_ptr()), _mm256_broadcast_sd(&*gp)), _mm256_mul_pd(_mm256_loadu_pd(c[1].as_ptr()), _mm256_broadcast_sd(&*gp.add(1)))),
+            _mm256_mul_pd(_mm256_loadu_pd(c[2].as_ptr()), _mm256_broadcast_sd(&*gp.add(2))),
+        );
+        acc.add(_mm256_mul_pd(_mm256_loadu_pd(c[3].as_ptr()), t));
+    }
+    let mut out = NodeForce::default();
+    if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
+        let [l] = A::certified(items.len(), 3, &[acc])?;
+        out.fint[0] = Vector3::new(l[0], l[1], l[2]);
+        out.fext[0] = Vector3::zeros();
+    }
+    Some(out)
+}
+
+/// `velocity_gradient::<Fast, false>` of particle `i`: lanes v_a·G_b, row a in one vector.
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn velocity_gradient(sim: &Simulation<D3>, i: usize) -> Option<Tensor3> {
+    let pairs = &sim.pairs;
+    let k = pairs.of_particle(i);
+    let vel = sim.nodes.fields[0].vel.as_ptr() as *const f64;
+    let (node, g) = (pairs.node.as_ptr(), pairs.g.as_ptr() as *const f64);
+    let mut acc = [Acc4::new(); 3];
+    for k in k.clone() {
+        let n = *node.add(k) as usize;
+        debug_assert!(n < sim.nodes.fields[0].vel.len());
+        let gv = load3(g.add(3 * k));
+        let v = vel.add(3 * n);
+        acc[0].add(_mm256_mul_pd(_mm256_broadcast_sd(&*v), gv));
+        acc[1].add(_mm256_mul_pd(_mm256_broadcast_sd(&*v.add(1)), gv));
+        acc[2].add(_mm256_mul_pd(_mm256_broadcast_sd(&*v.add(2)), gv));
+    }
+    let t = Acc4::certified(k.len(), 3, &acc)?;
+    Some(Tensor3::from_fn(|a, b| t[a][b]))
+}
+
+/// `particle_increments::<Fast, false>` of particle `i`: lanes S·v and S·a.
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn particle_increments(sim: &Simulation<D3>, i: usize) -> Option<(Vector3, Vector3)> {
+    let pairs = &sim.pairs;
+    let k = pairs.of_particle(i);
+    let fa = &sim.nodes.fields[0];
+    let (vel, accel) = (fa.vel.as_ptr() as *const f64, fa.acc.as_ptr() as *const f64);
+    let (node, s) = (pairs.node.as_ptr(), pairs.s.as_ptr());
+    let mut acc = [Acc4::new(); 2];
+    for k in k.clone() {
+        let n = *node.add(k) as usize;
+        debug_assert!(n < fa.vel.len() && n < fa.acc.len());
+        let w = _mm256_broadcast_sd(&*s.add(k));
+        acc[0].add(_mm256_mul_pd(w, load3(vel.add(3 * n))));
+        acc[1].add(_mm256_mul_pd(w, load3(accel.add(3 * n))));
+    }
+    let [v, w] = Acc4::certified(k.len(), 3, &acc)?;
+    Some((Vector3::new(v[0], v[1], v[2]), Vector3::new(w[0], w[1], w[2])))
+}
