@@ -76,6 +76,28 @@
 //!   25°; a fan's triangles fall below 15° from the third or fourth on. Not applied to a
 //!   moving node all of whose front edges would go (it would be left with no triangle).
 //!
+//! * **re-spacing** (not in the paper's Fig. 3; issue 17, case `tube_crack`;
+//!   [`respace_moves`], applied by the growth driver to the targets before this advance):
+//!   along every run of at least three front nodes, consecutive on the front, that all
+//!   move at this advance, the run's two end nodes keep their targets and each interior
+//!   node is put on the polyline of the run's targets at the arc-length fraction it had
+//!   along the run before the move. Every node moves the same increment along its own
+//!   front normal (001 §2.3.2), so where the front sweeps round an axis (a through-wall
+//!   front in a tube: the part at the inner radius gains angle faster than the part at
+//!   the outer) the front tilts, its normal gains a component along the front, and the
+//!   nodes slide along the front at every move: measured on `tube_crack` (branch tube3),
+//!   mid-wall nodes moved outward through the wall (r = 43.2 → 45.0 mm over steps
+//!   336–345), crowded at r = 45–47 mm, their headings crossed and their moves were
+//!   refused at the surface just made. A node's place along the front is a matter of
+//!   discretisation, not of mechanics: 3D front-tracking codes re-discretise the advanced
+//!   front (FRANC3D fits a curve through the new front points and re-seeds nodes along it;
+//!   not checked here against its documentation). Here only
+//!   the interior nodes of a run are moved, along the new front (not across it: the front's
+//!   shape is that of the targets), and only by more than a millionth of a cell (a
+//!   straight or circular front growing uniformly keeps its spacing and is left to the
+//!   bit). A node next to one that does not move is a run end: the staircase of
+//!   asynchronous moves (growth3 module doc, item 3) is not resampled.
+//!
 //! New crack particles start with both crack surfaces at their position (as a new 2D tip
 //! particle does). Everything is a deterministic function of the inputs.
 
@@ -664,4 +686,111 @@ mod tests {
             assert!(c.surface.vertices.iter().any(|w| w.x.to_bits() == m.x.to_bits() && w.y == m.y && w.z.to_bits() == m.z.to_bits()), "mirror of {v:?} missing");
         }
     }
+}
+
+/// Re-space the moved nodes of a front along the advanced front (module doc, "re-spacing";
+/// not in the paper's rules of Fig. 3): for every run of at least three front nodes that
+/// are consecutive along the front and all move (`moves`), the run's two end nodes keep
+/// their targets and every interior node is put on the polyline of the run's targets at
+/// the arc-length fraction it had along the polyline of the run's current positions. A
+/// node is only moved when that changes its target by more than `tol` (a front that keeps
+/// its spacing, as a straight or circular front growing uniformly, is left as it was to
+/// the bit). A closed front all of whose nodes move has no run ends and is left as it is.
+/// Returns how many targets changed.
+pub fn respace_moves(crack: &Crack3, moves: &mut BTreeMap<u32, Vector3>, tol: f64) -> usize {
+    let pts = &crack.surface.vertices;
+    let mut succ: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    let mut pred: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for &[a, b] in &crack.front {
+        succ.entry(a).or_default().push(b);
+        pred.entry(b).or_default().push(a);
+    }
+    // A node with more than one front edge on a side is a branch point: the chains stop there.
+    let simple = |v: u32| succ.get(&v).is_none_or(|s| s.len() == 1) && pred.get(&v).is_none_or(|p| p.len() == 1);
+    let mut nodes: BTreeSet<u32> = crack.front.iter().flatten().copied().collect();
+    let mut chains: Vec<(Vec<u32>, bool)> = Vec::new();
+    // Open chains from their first node (no predecessor, or a branch point).
+    let starts: Vec<u32> = nodes.iter().copied().filter(|&v| !pred.contains_key(&v) || !simple(v)).collect();
+    for &s in &starts {
+        nodes.remove(&s);
+    }
+    for s in starts {
+        for &first in succ.get(&s).map(Vec::as_slice).unwrap_or(&[]) {
+            let mut chain = vec![s];
+            let mut n = first;
+            loop {
+                chain.push(n);
+                if !simple(n) || !nodes.remove(&n) {
+                    break;
+                }
+                let Some(&m) = succ.get(&n).and_then(|s| s.first()) else { break };
+                n = m;
+            }
+            chains.push((chain, false));
+        }
+    }
+    // Closed loops.
+    while let Some(&s) = nodes.iter().next() {
+        let mut chain = vec![s];
+        nodes.remove(&s);
+        let mut v = s;
+        while let Some(&n) = succ.get(&v).and_then(|s| s.first()) {
+            if !nodes.remove(&n) {
+                break;
+            }
+            chain.push(n);
+            v = n;
+        }
+        chains.push((chain, true));
+    }
+    let mut changed = 0;
+    for (mut chain, closed) in chains {
+        if closed {
+            // Start the loop at a node that does not move, so that no run wraps round.
+            let Some(k) = chain.iter().position(|v| !moves.contains_key(v)) else { continue };
+            chain.rotate_left(k);
+        }
+        let mut i = 0;
+        while i < chain.len() {
+            if !moves.contains_key(&chain[i]) {
+                i += 1;
+                continue;
+            }
+            let mut j = i;
+            while j + 1 < chain.len() && moves.contains_key(&chain[j + 1]) {
+                j += 1;
+            }
+            if j >= i + 2 {
+                let run = &chain[i..=j];
+                let p: Vec<Vector3> = run.iter().map(|&v| pts[v as usize]).collect();
+                let q: Vec<Vector3> = run.iter().map(|v| moves[v]).collect();
+                let cum = |x: &[Vector3]| {
+                    let mut c = vec![0.0];
+                    for w in x.windows(2) {
+                        c.push(c.last().unwrap() + (w[1] - w[0]).norm());
+                    }
+                    c
+                };
+                let (s, t) = (cum(&p), cum(&q));
+                let (sl, tl) = (s[s.len() - 1], t[t.len() - 1]);
+                if sl > 0.0 && tl > 0.0 {
+                    let mut new = Vec::new();
+                    for k in 1..run.len() - 1 {
+                        let want = s[k] / sl * tl;
+                        let seg = (1..t.len()).find(|&m| t[m] >= want).unwrap_or(t.len() - 1);
+                        let len = t[seg] - t[seg - 1];
+                        let u = if len > 0.0 { ((want - t[seg - 1]) / len).clamp(0.0, 1.0) } else { 0.0 };
+                        let x = q[seg - 1] + (q[seg] - q[seg - 1]) * u;
+                        if (x - q[k]).norm() > tol {
+                            new.push((run[k], x));
+                        }
+                    }
+                    changed += new.len();
+                    moves.extend(new);
+                }
+            }
+            i = j + 1;
+        }
+    }
+    changed
 }

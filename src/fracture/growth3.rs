@@ -91,7 +91,8 @@
 //!    never moved again, kept status `growing`, and their front edges were never pruned).
 //!    The ligament it leaves, at most 0.29 cell, is below the resolution of the MPM
 //!    material boundary itself (001 §2.3.3: "approximately along the grid lines").
-//!    **Left behind at a free face**: a growing node that does not meet its criterion, at
+//!    **Left behind at a free face**: a growing node with no energy release (J₁ ≤ 0, so
+//!    K = 0 and it cannot meet its criterion), at
 //!    a free face ([`free_face`] at the node itself: within about ¾ cell of it), whose
 //!    front neighbour has advanced more than [`LAG_INCREMENTS`] = 1.5 increments further
 //!    (at least two moves ahead; one increment is the staircase of item 3), or all of whose
@@ -106,16 +107,27 @@
 //!    their neighbours' one-end triangles about them made fans of slivers (the sliver rule
 //!    of [`crate::crack::advance3`] drops such edges once the node is stopped). Before the
 //!    load arrives no node lags, so the rule cannot stop a front that has not yet grown.
+//!    Only with J₁ ≤ 0 (every such node in the tube runs had J₁ = −126 … −5 N/mm): a node
+//!    with J₁ > 0 below K_Ic is slowing, not cut off from its energy — on the slab without
+//!    rollers (tests/growth3.rs `free_face_fronts_grow_through_the_slab`) a face node
+//!    lagging as the far face neared was stopped at x = 18.97, 1 mm short of it, when the
+//!    rule did not ask for J₁ ≤ 0.
 //!    **Back onto the boundary**: a front end on a free face whose move (along the face,
 //!    its image counted) ends outside the material by the direct relative volume
-//!    (V < ½ with no face image) — an end that starts beyond the face, as the tube's
+//!    (V < ½ with no face image) and further out than it started (V below the node's own
+//!    direct V: a node on a stretched flat face has V a little below ½ at both ends of its
+//!    move and is left alone) — an end that starts beyond the face, as the tube's
 //!    initial crack (its polygon reaches r = 50.35 for the outer radius 50, as the
 //!    archived input), or a move along the tangent plane of a convex face — is brought
 //!    back along −n onto the boundary (the last point with V ≥ ½ from one cell inside to
 //!    the target, when that inner point is inside). Measured on `tube_crack` (main
 //!    833f572): the outer ends' first moves made crack particles at r = 50.58, carried
 //!    with the bulging wall to 0.89 mm outside it (check `inside`, 0.5).
-//! 6. **New surface** ([`advance_front`], 001 Fig. 3): one triangle per front edge with one
+//! 6. **New surface** ([`advance_front`], 001 Fig. 3): before it, the targets of the
+//!    interior nodes of every run of consecutive moving front nodes are re-spaced along the
+//!    new front to the arc-length fractions they had ([`respace_moves`]; the reason, a
+//!    front sweeping round an axis whose nodes slide along it and crowd, is in the
+//!    [`crate::crack::advance3`] module doc). Then one triangle per front edge with one
 //!    end moving, four with both, five when the new edge exceeds twice its reference length
 //!    (split, a new front node), one and a merged node when it falls below a quarter. A
 //!    node whose new triangles would meet the existing surface of any crack is refused and
@@ -146,7 +158,7 @@
 //! exact sums in J and the relative volume, so a run is bit-identical for any particle
 //! order and thread count (tests/three_d_crack_reproducibility.rs).
 
-use crate::crack::advance3::{advance_front_stopped, prune_front};
+use crate::crack::advance3::{advance_front_stopped, prune_front, respace_moves};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
@@ -406,7 +418,7 @@ impl Simulation<D3> {
                             if let Some((n, _)) = face {
                                 let direct = volume(None);
                                 let inner = target - n * h;
-                                if direct(target) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME {
+                                if direct(target) < direct(fr.x).min(BOUNDARY_VOLUME) && direct(inner) >= BOUNDARY_VOLUME {
                                     target = trim_by(inner, target, &direct).0;
                                 }
                             }
@@ -427,7 +439,7 @@ impl Simulation<D3> {
                         if near_boundary(volume(face), fr.x, ahead, da) {
                             status = NodeStatus::AtEdge;
                             fg.near_edge += 1;
-                        } else if lags(v) && free_face(b, mat, fr.x, pl, h).is_some() {
+                        } else if !(fr.j1 > 0.0) && lags(v) && free_face(b, mat, fr.x, pl, h).is_some() {
                             // Left behind by the front at a free face (module doc, item 5).
                             status = NodeStatus::AtEdge;
                             fg.near_edge += 1;
@@ -457,6 +469,9 @@ impl Simulation<D3> {
                 fg.nodes.get_mut(&r.vertex).expect("front node").status = r.status;
             }
             if !moves.is_empty() {
+                // Interior nodes of every run of moving nodes keep their arc-length
+                // fractions along the front (module doc, item 6).
+                respace_moves(&self.cracks[c], &mut moves, RESPACE_TOL * h);
                 let others: Vec<&crate::crack::surface::TriangleSurface> = self.cracks.iter().enumerate().filter(|&(o, _)| o != c).map(|(_, k)| &k.surface).collect();
                 let mut crack = self.cracks[c].clone();
                 // Stopped for good and not moving (sliver rule of advance_front_stopped).
@@ -725,6 +740,10 @@ pub fn free_face(b: &MaterialBoundary3, mat: usize, x: Vector3, planes: &[(usize
 /// further (module doc, item 5): one increment is the staircase of asynchronous moves
 /// (item 3); one and a half is at least two moves behind.
 pub const LAG_INCREMENTS: f64 = 1.5;
+
+/// Re-spacing (module doc, item 6) changes a target only by more than this many cells:
+/// below it the change is rounding (a front that keeps its spacing is left to the bit).
+pub const RESPACE_TOL: f64 = 1e-6;
 
 /// Relative-volume gradient (times the cell) above which a front end is on a free face.
 pub const FACE_GRADIENT: f64 = 0.25;
