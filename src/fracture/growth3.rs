@@ -114,15 +114,23 @@
 //!    rule did not ask for J₁ ≤ 0.
 //!    **Back onto the boundary**: a front end on a free face whose move (along the face,
 //!    its image counted) ends outside the material by the direct relative volume
-//!    (V < ½ with no face image) and further out than it started (V below the node's own
-//!    direct V: a node on a stretched flat face has V a little below ½ at both ends of its
-//!    move and is left alone) — an end that starts beyond the face, as the tube's
+//!    (V < ½ with no face image) by more than [`PULL_BACK_MIN`] = 0.1 cell — an end that starts beyond the face, as the tube's
 //!    initial crack (its polygon reaches r = 50.35 for the outer radius 50, as the
 //!    archived input), or a move along the tangent plane of a convex face — is brought
 //!    back along −n onto the boundary (the last point with V ≥ ½ from one cell inside to
 //!    the target, when that inner point is inside). Measured on `tube_crack` (main
 //!    833f572): the outer ends' first moves made crack particles at r = 50.58, carried
-//!    with the bulging wall to 0.89 mm outside it (check `inside`, 0.5).
+//!    with the bulging wall to 0.89 mm outside it (check `inside`, 0.5). Not for less than
+//!    0.1 cell: a front end on a stretched flat face has V a little below ½ (measured on
+//!    the slab without rollers, tests/growth3.rs `free_face_fronts_grow_through_the_slab`:
+//!    V = 0.4968–0.4986 at its targets), and brought back 0.002–0.005 mm inside its face
+//!    its J₁ fell to 0.02 N/mm (K_eq ≈ 5 for K_Ic ≫) and it never moved again after its
+//!    fifth move (why J₁ collapses for a node a few µm inside the face is not diagnosed);
+//!    within 0.1 cell the node is on the face to the resolution of the MPM boundary. The
+//!    tube's outer ends start 0.35 mm (0.18 cell) beyond it. Nor for a move trimmed at
+//!    the boundary (the node stops there): where the face meets another face (the slab's
+//!    far edge) the direct V is ¼ and the pull-back along −n took a face node 0.6 mm off
+//!    its face.
 //! 6. **New surface** ([`advance_front`], 001 Fig. 3): before it, the targets of the
 //!    interior nodes of every run of consecutive moving front nodes are re-spaced along the
 //!    new front to the arc-length fractions they had ([`respace_moves`]; the reason, a
@@ -415,11 +423,14 @@ impl Simulation<D3> {
                             // material (with no image: the end started beyond the face, or
                             // the face is convex) is brought back along −n to the boundary
                             // (module doc, item 5).
-                            if let Some((n, _)) = face {
+                            if let (Some((n, _)), false) = (face, at_edge) {
                                 let direct = volume(None);
                                 let inner = target - n * h;
-                                if direct(target) < direct(fr.x).min(BOUNDARY_VOLUME) && direct(inner) >= BOUNDARY_VOLUME {
-                                    target = trim_by(inner, target, &direct).0;
+                                if direct(target) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME {
+                                    let back = trim_by(inner, target, &direct).0;
+                                    if (back - target).norm() > PULL_BACK_MIN * h {
+                                        target = back;
+                                    }
                                 }
                             }
                             if at_edge {
@@ -740,6 +751,10 @@ pub fn free_face(b: &MaterialBoundary3, mat: usize, x: Vector3, planes: &[(usize
 /// further (module doc, item 5): one increment is the staircase of asynchronous moves
 /// (item 3); one and a half is at least two moves behind.
 pub const LAG_INCREMENTS: f64 = 1.5;
+
+/// A free-face end is brought back onto the boundary (module doc, item 5, "back onto the
+/// boundary") only when that moves it by more than this many cells.
+pub const PULL_BACK_MIN: f64 = 0.1;
 
 /// Re-spacing (module doc, item 6) changes a target only by more than this many cells:
 /// below it the change is rounding (a front that keeps its spacing is left to the bit).
