@@ -60,6 +60,44 @@
 //!   says nothing about the crack it would meet, and the driver retries it at its next
 //!   check, when the front's shape and the headings have changed.
 //!
+//! * **sliver** (not in the paper; issue 17, case `tube_crack`): a front edge b–a whose end
+//!   b is stopped for good (at the material boundary or at a crack: the growth driver's
+//!   `stopped` set) while a moves would make the one-end triangle (b, a, a′) again at every
+//!   move of a, a fan about the fixed b. When that triangle's smallest angle is below
+//!   [`SLIVER_ANGLE_DEG`] = 15° the edge leaves the front instead (no triangle; b–a stays a
+//!   boundary edge of the surface that is not front, as a pruned edge of 001 §2.3.3) and
+//!   a′ carries on from its other edge. Measured on `tube_crack` (main 833f572): a front
+//!   end stopped on the tube's inner face and its moving neighbour made a fan of such
+//!   triangles up to 11 mm long; one of them, corners nearly collinear (smallest angle
+//!   5.6°, largest 157°), had a plane nearly normal to the crack's, and a particle 2.5 mm
+//!   from it took its side from it and then "crossed" when a proper triangle came nearer
+//!   (the run's stop at step 537). 15°: a one-end triangle of a front growing normally
+//!   (edge ≈ ⅓ cell, move ½ cell at up to 45° to the edge) has its smallest angle above
+//!   25°; a fan's triangles fall below 15° from the third or fourth on. Not applied to a
+//!   moving node all of whose front edges would go (it would be left with no triangle).
+//!
+//! * **re-spacing** (not in the paper's Fig. 3; issue 17, case `tube_crack`;
+//!   [`respace_moves`], applied by the growth driver to the targets before this advance):
+//!   along every run of at least three front nodes, consecutive on the front, that all
+//!   move at this advance, the run's two end nodes keep their targets and each interior
+//!   node is put on the polyline of the run's targets at the arc-length fraction it had
+//!   along the run before the move. Every node moves the same increment along its own
+//!   front normal (001 §2.3.2), so where the front sweeps round an axis (a through-wall
+//!   front in a tube: the part at the inner radius gains angle faster than the part at
+//!   the outer) the front tilts, its normal gains a component along the front, and the
+//!   nodes slide along the front at every move: measured on `tube_crack` (branch tube3),
+//!   mid-wall nodes moved outward through the wall (r = 43.2 → 45.0 mm over steps
+//!   336–345), crowded at r = 45–47 mm, their headings crossed and their moves were
+//!   refused at the surface just made. A node's place along the front is a matter of
+//!   discretisation, not of mechanics: 3D front-tracking codes re-discretise the advanced
+//!   front (FRANC3D fits a curve through the new front points and re-seeds nodes along it;
+//!   not checked here against its documentation). Here only
+//!   the interior nodes of a run are moved, along the new front (not across it: the front's
+//!   shape is that of the targets), and only by more than a millionth of a cell (a
+//!   straight or circular front growing uniformly keeps its spacing and is left to the
+//!   bit). A node next to one that does not move is a run end: the staircase of
+//!   asynchronous moves (growth3 module doc, item 3) is not resampled.
+//!
 //! New crack particles start with both crack surfaces at their position (as a new 2D tip
 //! particle does). Everything is a deterministic function of the inputs.
 
@@ -90,6 +128,9 @@ pub struct AdvanceReport {
     /// (old front node, its new crack particle) for every node that moved (merged nodes
     /// share one new particle).
     pub moved: Vec<(u32, u32)>,
+    /// Front edges from a stopped node dropped instead of a sliver triangle (module doc,
+    /// "sliver").
+    pub dropped: usize,
 }
 
 /// The triangles and front of one advance, before it is applied.
@@ -103,6 +144,7 @@ struct Plan {
     sources: Vec<Vec<u32>>,
     splits: usize,
     merges: usize,
+    dropped: usize,
 }
 
 /// Advance the front of `crack`: front node `v` moves to `moves[&v]` (nodes not in
@@ -110,12 +152,20 @@ struct Plan {
 /// replaced by the new front. `others` are the other cracks' surfaces (no new triangle may
 /// meet them). Returns what was done; the crack's boundary flags are recomputed.
 pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface]) -> AdvanceReport {
+    advance_front_stopped(crack, front_ref, moves, others, &BTreeSet::new())
+}
+
+/// [`advance_front`] with the front nodes stopped for good (`stopped`, which do not move):
+/// a front edge from a stopped node whose other end moves leaves the front instead of
+/// making a sliver triangle (module doc, "sliver").
+pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface], stopped: &BTreeSet<u32>) -> AdvanceReport {
     assert_eq!(front_ref.len(), crack.front.len(), "one reference length per front edge");
     let mut moves = moves.clone();
     let mut refused = Vec::new();
     let mut folded = Vec::new();
     let plan = loop {
-        let plan = plan(crack, front_ref, &moves);
+        let drop = slivers(crack, &moves, stopped);
+        let plan = plan(crack, front_ref, &moves, &drop);
         let (existing, new) = crossing_sources(crack, &plan, others);
         if existing.is_empty() && new.is_empty() {
             break plan;
@@ -139,6 +189,7 @@ pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTree
         refused,
         folded,
         moved: plan.moved.clone(),
+        dropped: plan.dropped,
     };
     let s = &mut crack.surface;
     s.vertices.extend(&plan.vertices);
@@ -174,7 +225,7 @@ pub fn prune_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, stopped: &std::
 }
 
 /// Build the new vertices, triangles and front for `moves` (no crossing test).
-fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Plan {
+fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>, drop: &BTreeSet<usize>) -> Plan {
     let pts = &crack.surface.vertices;
     let first_new = pts.len() as u32;
     let mut vertices: Vec<Vector3> = Vec::new();
@@ -240,10 +291,12 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Pl
     let mut sources = Vec::new();
     let mut front = Vec::new();
     let mut splits = 0;
+    let mut dropped = 0;
     for (k, &[a, b]) in crack.front.iter().enumerate() {
         let l = front_ref[k];
         match (moved.get(&a).copied(), moved.get(&b).copied()) {
             (None, None) => front.push(([a, b], l)),
+            (Some(_), None) | (None, Some(_)) if drop.contains(&k) => dropped += 1,
             (Some(na), None) => {
                 triangles.push([b, a, na]);
                 sources.push(vec![a]);
@@ -278,7 +331,63 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>) -> Pl
             }
         }
     }
-    Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, splits, merges }
+    Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, splits, merges, dropped }
+}
+
+/// Smallest angle of a one-end triangle (b, a, a′) from a stopped node b below which the
+/// front edge b–a leaves the front instead (module doc, "sliver").
+pub const SLIVER_ANGLE_DEG: f64 = 15.0;
+
+/// The front edges (indices) whose one end is `stopped` and does not move while the other
+/// moves, and whose one-end triangle would have an angle below [`SLIVER_ANGLE_DEG`]; not
+/// those of a moving node all of whose front edges are such (it would be left with no
+/// triangle).
+fn slivers(crack: &Crack3, moves: &BTreeMap<u32, Vector3>, stopped: &BTreeSet<u32>) -> BTreeSet<usize> {
+    let pts = &crack.surface.vertices;
+    let mut out = BTreeSet::new();
+    if stopped.is_empty() {
+        return out;
+    }
+    let mut count: BTreeMap<u32, (usize, usize)> = BTreeMap::new();
+    for &[a, b] in &crack.front {
+        for v in [a, b] {
+            count.entry(v).or_default().0 += 1;
+        }
+    }
+    for (k, &[a, b]) in crack.front.iter().enumerate() {
+        let (fixed, moving) = match (moves.get(&a), moves.get(&b)) {
+            (Some(_), None) => (b, a),
+            (None, Some(_)) => (a, b),
+            _ => continue,
+        };
+        if !stopped.contains(&fixed) {
+            continue;
+        }
+        let tri = [pts[fixed as usize], pts[moving as usize], moves[&moving]];
+        if min_angle(&tri) < SLIVER_ANGLE_DEG.to_radians() {
+            out.insert(k);
+            count.entry(moving).or_default().1 += 1;
+        }
+    }
+    let keep: BTreeSet<u32> = count.iter().filter(|(_, &(all, sl))| sl > 0 && sl == all).map(|(&v, _)| v).collect();
+    if !keep.is_empty() {
+        out.retain(|&k| !crack.front[k].iter().any(|v| keep.contains(v)));
+    }
+    out
+}
+
+/// The smallest interior angle (radians) of a triangle; 0 for a degenerate one.
+pub fn min_angle(t: &[Vector3; 3]) -> f64 {
+    let mut m = std::f64::consts::PI;
+    for i in 0..3 {
+        let (u, v) = (t[(i + 1) % 3] - t[i], t[(i + 2) % 3] - t[i]);
+        let (lu, lv) = (u.norm(), v.norm());
+        if lu == 0.0 || lv == 0.0 {
+            return 0.0;
+        }
+        m = m.min(u.cross(&v).norm().atan2(u.dot(&v)));
+    }
+    m
 }
 
 /// The length of the new edge `e` = b′ − a′ normal to `m`, its ends' summed moves (module
@@ -577,4 +686,111 @@ mod tests {
             assert!(c.surface.vertices.iter().any(|w| w.x.to_bits() == m.x.to_bits() && w.y == m.y && w.z.to_bits() == m.z.to_bits()), "mirror of {v:?} missing");
         }
     }
+}
+
+/// Re-space the moved nodes of a front along the advanced front (module doc, "re-spacing";
+/// not in the paper's rules of Fig. 3): for every run of at least three front nodes that
+/// are consecutive along the front and all move (`moves`), the run's two end nodes keep
+/// their targets and every interior node is put on the polyline of the run's targets at
+/// the arc-length fraction it had along the polyline of the run's current positions. A
+/// node is only moved when that changes its target by more than `tol` (a front that keeps
+/// its spacing, as a straight or circular front growing uniformly, is left as it was to
+/// the bit). A closed front all of whose nodes move has no run ends and is left as it is.
+/// Returns how many targets changed.
+pub fn respace_moves(crack: &Crack3, moves: &mut BTreeMap<u32, Vector3>, tol: f64) -> usize {
+    let pts = &crack.surface.vertices;
+    let mut succ: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    let mut pred: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for &[a, b] in &crack.front {
+        succ.entry(a).or_default().push(b);
+        pred.entry(b).or_default().push(a);
+    }
+    // A node with more than one front edge on a side is a branch point: the chains stop there.
+    let simple = |v: u32| succ.get(&v).is_none_or(|s| s.len() == 1) && pred.get(&v).is_none_or(|p| p.len() == 1);
+    let mut nodes: BTreeSet<u32> = crack.front.iter().flatten().copied().collect();
+    let mut chains: Vec<(Vec<u32>, bool)> = Vec::new();
+    // Open chains from their first node (no predecessor, or a branch point).
+    let starts: Vec<u32> = nodes.iter().copied().filter(|&v| !pred.contains_key(&v) || !simple(v)).collect();
+    for &s in &starts {
+        nodes.remove(&s);
+    }
+    for s in starts {
+        for &first in succ.get(&s).map(Vec::as_slice).unwrap_or(&[]) {
+            let mut chain = vec![s];
+            let mut n = first;
+            loop {
+                chain.push(n);
+                if !simple(n) || !nodes.remove(&n) {
+                    break;
+                }
+                let Some(&m) = succ.get(&n).and_then(|s| s.first()) else { break };
+                n = m;
+            }
+            chains.push((chain, false));
+        }
+    }
+    // Closed loops.
+    while let Some(&s) = nodes.iter().next() {
+        let mut chain = vec![s];
+        nodes.remove(&s);
+        let mut v = s;
+        while let Some(&n) = succ.get(&v).and_then(|s| s.first()) {
+            if !nodes.remove(&n) {
+                break;
+            }
+            chain.push(n);
+            v = n;
+        }
+        chains.push((chain, true));
+    }
+    let mut changed = 0;
+    for (mut chain, closed) in chains {
+        if closed {
+            // Start the loop at a node that does not move, so that no run wraps round.
+            let Some(k) = chain.iter().position(|v| !moves.contains_key(v)) else { continue };
+            chain.rotate_left(k);
+        }
+        let mut i = 0;
+        while i < chain.len() {
+            if !moves.contains_key(&chain[i]) {
+                i += 1;
+                continue;
+            }
+            let mut j = i;
+            while j + 1 < chain.len() && moves.contains_key(&chain[j + 1]) {
+                j += 1;
+            }
+            if j >= i + 2 {
+                let run = &chain[i..=j];
+                let p: Vec<Vector3> = run.iter().map(|&v| pts[v as usize]).collect();
+                let q: Vec<Vector3> = run.iter().map(|v| moves[v]).collect();
+                let cum = |x: &[Vector3]| {
+                    let mut c = vec![0.0];
+                    for w in x.windows(2) {
+                        c.push(c.last().unwrap() + (w[1] - w[0]).norm());
+                    }
+                    c
+                };
+                let (s, t) = (cum(&p), cum(&q));
+                let (sl, tl) = (s[s.len() - 1], t[t.len() - 1]);
+                if sl > 0.0 && tl > 0.0 {
+                    let mut new = Vec::new();
+                    for k in 1..run.len() - 1 {
+                        let want = s[k] / sl * tl;
+                        let seg = (1..t.len()).find(|&m| t[m] >= want).unwrap_or(t.len() - 1);
+                        let len = t[seg] - t[seg - 1];
+                        let u = if len > 0.0 { ((want - t[seg - 1]) / len).clamp(0.0, 1.0) } else { 0.0 };
+                        let x = q[seg - 1] + (q[seg] - q[seg - 1]) * u;
+                        if (x - q[k]).norm() > tol {
+                            new.push((run[k], x));
+                        }
+                    }
+                    changed += new.len();
+                    moves.extend(new);
+                }
+            }
+            i = j + 1;
+        }
+    }
+    changed
 }

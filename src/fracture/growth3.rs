@@ -91,7 +91,51 @@
 //!    never moved again, kept status `growing`, and their front edges were never pruned).
 //!    The ligament it leaves, at most 0.29 cell, is below the resolution of the MPM
 //!    material boundary itself (001 §2.3.3: "approximately along the grid lines").
-//! 6. **New surface** ([`advance_front`], 001 Fig. 3): one triangle per front edge with one
+//!    **Left behind at a free face**: a growing node with no energy release (J₁ ≤ 0, so
+//!    K = 0 and it cannot meet its criterion), at
+//!    a free face ([`free_face`] at the node itself: within about ¾ cell of it), whose
+//!    front neighbour has advanced more than [`LAG_INCREMENTS`] = 1.5 increments further
+//!    (at least two moves ahead; one increment is the staircase of item 3), or all of whose
+//!    front neighbours have stopped for good, also stops for good (status `edge`, counted
+//!    with the nodes above) even when its x1 does not point at the face. (Without the
+//!    second clause, measured: a front end on the inner face with J₁ < 0, whose only
+//!    neighbour had been stopped by the first, kept a two-node piece of front 10° behind
+//!    the rest for the whole run.) Measured on `tube_crack` (main 833f572): nodes 0.3–0.8 mm from the
+//!    tube's inner face, their front tilted so that the contour circle (2 cells) was cut
+//!    by the face, had J₁ = −66 … −21 N/mm (K = 0) and stayed `growing` 2–10 increments
+//!    behind their neighbours for the rest of the run, their front edges never pruned;
+//!    their neighbours' one-end triangles about them made fans of slivers (the sliver rule
+//!    of [`crate::crack::advance3`] drops such edges once the node is stopped). Before the
+//!    load arrives no node lags, so the rule cannot stop a front that has not yet grown.
+//!    Only with J₁ ≤ 0 (every such node in the tube runs had J₁ = −126 … −5 N/mm): a node
+//!    with J₁ > 0 below K_Ic is slowing, not cut off from its energy — on the slab without
+//!    rollers (tests/growth3.rs `free_face_fronts_grow_through_the_slab`) a face node
+//!    lagging as the far face neared was stopped at x = 18.97, 1 mm short of it, when the
+//!    rule did not ask for J₁ ≤ 0.
+//!    **Back onto the boundary**: a front end on a free face whose move (along the face,
+//!    its image counted) ends outside the material by the direct relative volume
+//!    (V < ½ with no face image) by more than [`PULL_BACK_MIN`] = 0.1 cell — an end that starts beyond the face, as the tube's
+//!    initial crack (its polygon reaches r = 50.35 for the outer radius 50, as the
+//!    archived input), or a move along the tangent plane of a convex face — is brought
+//!    back along −n onto the boundary (the last point with V ≥ ½ from one cell inside to
+//!    the target, when that inner point is inside). Measured on `tube_crack` (main
+//!    833f572): the outer ends' first moves made crack particles at r = 50.58, carried
+//!    with the bulging wall to 0.89 mm outside it (check `inside`, 0.5). Not for less than
+//!    0.1 cell: a front end on a stretched flat face has V a little below ½ (measured on
+//!    the slab without rollers, tests/growth3.rs `free_face_fronts_grow_through_the_slab`:
+//!    V = 0.4968–0.4986 at its targets), and brought back 0.002–0.005 mm inside its face
+//!    its J₁ fell to 0.02 N/mm (K_eq ≈ 5 for K_Ic ≫) and it never moved again after its
+//!    fifth move (why J₁ collapses for a node a few µm inside the face is not diagnosed);
+//!    within 0.1 cell the node is on the face to the resolution of the MPM boundary. The
+//!    tube's outer ends start 0.35 mm (0.18 cell) beyond it. Nor for a move trimmed at
+//!    the boundary (the node stops there): where the face meets another face (the slab's
+//!    far edge) the direct V is ¼ and the pull-back along −n took a face node 0.6 mm off
+//!    its face.
+//! 6. **New surface** ([`advance_front`], 001 Fig. 3): before it, the targets of the
+//!    interior nodes of every run of consecutive moving front nodes are re-spaced along the
+//!    new front to the arc-length fractions they had ([`respace_moves`]; the reason, a
+//!    front sweeping round an axis whose nodes slide along it and crowd, is in the
+//!    [`crate::crack::advance3`] module doc). Then one triangle per front edge with one
 //!    end moving, four with both, five when the new edge exceeds twice its reference length
 //!    (split, a new front node), one and a merged node when it falls below a quarter. A
 //!    node whose new triangles would meet the existing surface of any crack is refused and
@@ -122,7 +166,7 @@
 //! exact sums in J and the relative volume, so a run is bit-identical for any particle
 //! order and thread count (tests/three_d_crack_reproducibility.rs).
 
-use crate::crack::advance3::{advance_front, prune_front};
+use crate::crack::advance3::{advance_front_stopped, prune_front, respace_moves};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
@@ -322,6 +366,14 @@ impl Simulation<D3> {
             let da = fg.settings.increment * h;
             let mut moves: BTreeMap<u32, Vector3> = BTreeMap::new();
             let mut rows: Vec<NodeRecord> = Vec::with_capacity(results.len());
+            // A node is left behind when a front neighbour has advanced more than
+            // LAG_INCREMENTS increments further, or when all its front neighbours have
+            // stopped for good (module doc, item 5).
+            let lags = |v: u32| {
+                let own = fg.nodes[&v].advance;
+                let nbrs: Vec<&NodeGrowth> = self.cracks[c].front.iter().filter(|e| e.contains(&v)).flatten().filter(|&&u| u != v).filter_map(|u| fg.nodes.get(u)).collect();
+                nbrs.iter().any(|n| n.advance - own > LAG_INCREMENTS * da) || (!nbrs.is_empty() && nbrs.iter().all(|n| n.status != NodeStatus::Growing))
+            };
             for fr in &results {
                 let v = fr.node;
                 let node = &fg.nodes[&v];
@@ -366,7 +418,21 @@ impl Simulation<D3> {
                                     to[a] = p;
                                 }
                             }
-                            let (target, at_edge) = trim_by(fr.x, to, volume(face));
+                            let (mut target, at_edge) = trim_by(fr.x, to, volume(face));
+                            // A front end on a free face whose move ends outside the
+                            // material (with no image: the end started beyond the face, or
+                            // the face is convex) is brought back along −n to the boundary
+                            // (module doc, item 5).
+                            if let (Some((n, _)), false) = (face, at_edge) {
+                                let direct = volume(None);
+                                let inner = target - n * h;
+                                if direct(target) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME {
+                                    let back = trim_by(inner, target, &direct).0;
+                                    if (back - target).norm() > PULL_BACK_MIN * h {
+                                        target = back;
+                                    }
+                                }
+                            }
                             if at_edge {
                                 status = NodeStatus::AtEdge;
                             }
@@ -382,6 +448,10 @@ impl Simulation<D3> {
                         let face = on_face(fr.frame.e1);
                         let ahead = face.map_or(fr.frame.e1, |(_, d)| d);
                         if near_boundary(volume(face), fr.x, ahead, da) {
+                            status = NodeStatus::AtEdge;
+                            fg.near_edge += 1;
+                        } else if !(fr.j1 > 0.0) && lags(v) && free_face(b, mat, fr.x, pl, h).is_some() {
+                            // Left behind by the front at a free face (module doc, item 5).
                             status = NodeStatus::AtEdge;
                             fg.near_edge += 1;
                         }
@@ -410,9 +480,15 @@ impl Simulation<D3> {
                 fg.nodes.get_mut(&r.vertex).expect("front node").status = r.status;
             }
             if !moves.is_empty() {
+                // Interior nodes of every run of moving nodes keep their arc-length
+                // fractions along the front (module doc, item 6).
+                respace_moves(&self.cracks[c], &mut moves, RESPACE_TOL * h);
                 let others: Vec<&crate::crack::surface::TriangleSurface> = self.cracks.iter().enumerate().filter(|&(o, _)| o != c).map(|(_, k)| &k.surface).collect();
                 let mut crack = self.cracks[c].clone();
-                let report = advance_front(&mut crack, &mut fg.front_ref, &moves, &others);
+                // Stopped for good and not moving (sliver rule of advance_front_stopped).
+                let stopped: BTreeSet<u32> = rows.iter().filter(|r| r.status != NodeStatus::Growing && !moves.contains_key(&r.vertex)).map(|r| r.vertex).collect();
+                let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped);
+                fg.pruned += report.dropped;
                 self.cracks[c] = crack;
                 fg.splits += report.splits;
                 fg.merges += report.merges;
@@ -670,6 +746,19 @@ pub fn free_face(b: &MaterialBoundary3, mat: usize, x: Vector3, planes: &[(usize
     }
     Some(-g.normalize())
 }
+
+/// A front node lags when a front neighbour has advanced more than this many increments
+/// further (module doc, item 5): one increment is the staircase of asynchronous moves
+/// (item 3); one and a half is at least two moves behind.
+pub const LAG_INCREMENTS: f64 = 1.5;
+
+/// A free-face end is brought back onto the boundary (module doc, item 5, "back onto the
+/// boundary") only when that moves it by more than this many cells.
+pub const PULL_BACK_MIN: f64 = 0.1;
+
+/// Re-spacing (module doc, item 6) changes a target only by more than this many cells:
+/// below it the change is rounding (a front that keeps its spacing is left to the bit).
+pub const RESPACE_TOL: f64 = 1e-6;
 
 /// Relative-volume gradient (times the cell) above which a front end is on a free face.
 pub const FACE_GRADIENT: f64 = 0.25;
