@@ -586,17 +586,10 @@ impl<S: Dimension> Simulation<S> {
     /// the same bits for any particle order and thread count.
     fn boundary_power(&self) -> f64 {
         let (bcs, nodes) = (&self.bcs, &self.nodes);
-        let moving = |&node: &u32| {
-            let i = node as usize;
-            (0..S::DIM).any(|c| bcs.mask[i] & (1 << c) != 0 && bcs.vel[i][c] != 0.0)
-        };
-        if !bcs.nodes.iter().any(moving) {
-            return 0.0;
-        }
-        let terms = bcs.nodes.iter().filter(|n| moving(n)).flat_map(|&node| {
-            let i = node as usize;
+        let moving = |i: usize, c: usize| bcs.mask[i] & (1 << c) != 0 && bcs.vel[i][c] != 0.0;
+        let terms = bcs.nodes.iter().map(|&node| node as usize).flat_map(|i| {
             nodes.fields.iter().enumerate().filter(move |(f, _)| nodes.present[i] & (1 << f) != 0).flat_map(move |(_, fa)| {
-                (0..S::DIM).filter(move |&c| bcs.mask[i] & (1 << c) != 0 && bcs.vel[i][c] != 0.0).map(move |c| -fa.ftot[i][c] * bcs.vel[i][c])
+                (0..S::DIM).filter(move |&c| moving(i, c)).map(move |c| -fa.ftot[i][c] * bcs.vel[i][c])
             })
         });
         crate::exact::sum_fast(terms)

@@ -8,6 +8,7 @@
 //! A run past the stable time step must stop with `Unstable` instead of silently
 //! producing garbage: that is the verification case `cfl_sweep`.
 
+mod common;
 use cramp::check::CheckError;
 use cramp::dim::Vector;
 use cramp::scene::Scene;
@@ -206,34 +207,16 @@ fn largest_stable_cfl_fraction_per_scheme() {
 /// NaN or out of the grid. The gripped plate of tests/loaded_energy.rs at 3 h/c_d.
 #[test]
 fn a_gripped_run_past_the_stable_time_step_stops_with_unstable() {
-    let text = r#"
-[grid]
-origin = [-2.25, -32.0]
-size = [14.0, 64.0]
-cell = [1.0, 1.0]
+    let text = format!(
+        r#"{}{}
 [solver]
 end_time = 0.3
 particles_per_cell = 2
-[[materials]]
-name = "m"
-E = 1000.0
-nu = 0.3
-rho = 1.0e-3
-state = "plane_strain"
-[[bodies]]
-material = "m"
-shape = { rectangle = { min = [0.0, -30.0], max = [10.0, 30.0] } }
-[[boundary]]
-nodes = { region = { min = [-3.0, -32.0], max = [0.0, 32.0] } }
-vx = 0.0
-[[boundary]]
-nodes = { region = { min = [-3.0, 30.0], max = [12.0, 32.0] } }
-vy = 0.02
-[[boundary]]
-nodes = { region = { min = [-3.0, -32.0], max = [12.0, -30.0] } }
-vy = -0.02
-"#;
-    let mut sim = Scene::from_toml(text, "gripped plate").unwrap().build().unwrap();
+"#,
+        common::PLATE,
+        common::PLATE_GRIPS
+    );
+    let mut sim = Scene::from_toml(&text, "gripped plate").unwrap().build().unwrap();
     assert!(sim.options.checked);
     sim.options.dt *= 6.0; // 0.5 → 3 h/c_d
     let mut outcome = Ok(());

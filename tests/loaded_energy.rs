@@ -13,25 +13,8 @@
 
 use cramp::scene::Scene;
 
-/// The plate of the 2D tests: 10 × 60 mm, rollers on x = 0, plane strain.
-const PLATE: &str = r#"
-[grid]
-origin = [-2.25, -32.0]
-size = [14.0, 64.0]
-cell = [1.0, 1.0]
-[[materials]]
-name = "m"
-E = 1000.0
-nu = 0.3
-rho = 1.0e-3
-state = "plane_strain"
-[[bodies]]
-material = "m"
-shape = { rectangle = { min = [0.0, -30.0], max = [10.0, 30.0] } }
-[[boundary]]
-nodes = { region = { min = [-3.0, -32.0], max = [0.0, 32.0] } }
-vx = 0.0
-"#;
+mod common;
+use common::{PLATE, PLATE_GRIPS};
 
 #[test]
 fn energy_balance_holds_under_a_ramped_load_with_damping() {
@@ -102,13 +85,7 @@ damping = 60.0
 particles_per_cell = 2
 scheme = "{scheme}"
 cfl = {cfl}
-[[boundary]]
-nodes = {{ region = {{ min = [-3.0, 30.0], max = [12.0, 32.0] }} }}
-vy = 0.02
-[[boundary]]
-nodes = {{ region = {{ min = [-3.0, -32.0], max = [12.0, -30.0] }} }}
-vy = -0.02
-"#
+{PLATE_GRIPS}"#
     );
     let scene = Scene::from_toml(&text, "gripped plate").unwrap();
     let mut sim = scene.build().unwrap();

@@ -199,3 +199,36 @@ pub fn temp_dir(name: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&d).unwrap();
     d
 }
+
+/// A 10 × 60 mm plane-strain plate (E = 1000 MPa, ν = 0.3, ρ = 1e−3 g/mm³) on 1 mm cells,
+/// rollers on x = 0, without `[solver]` (tests/loaded_energy.rs, tests/checked_mode.rs).
+#[allow(dead_code)]
+pub const PLATE: &str = r#"
+[grid]
+origin = [-2.25, -32.0]
+size = [14.0, 64.0]
+cell = [1.0, 1.0]
+[[materials]]
+name = "m"
+E = 1000.0
+nu = 0.3
+rho = 1.0e-3
+state = "plane_strain"
+[[bodies]]
+material = "m"
+shape = { rectangle = { min = [0.0, -30.0], max = [10.0, 30.0] } }
+[[boundary]]
+nodes = { region = { min = [-3.0, -32.0], max = [0.0, 32.0] } }
+vx = 0.0
+"#;
+
+/// Grips for [`PLATE`]: the nodes beyond its top and bottom edges move apart at ±0.02 mm/ms.
+#[allow(dead_code)]
+pub const PLATE_GRIPS: &str = r#"
+[[boundary]]
+nodes = { region = { min = [-3.0, 30.0], max = [12.0, 32.0] } }
+vy = 0.02
+[[boundary]]
+nodes = { region = { min = [-3.0, -32.0], max = [12.0, -30.0] } }
+vy = -0.02
+"#;
