@@ -152,6 +152,17 @@ fn released_growth_is_identical_after_shuffling_particles_and_on_one_thread() {
     assert_eq!((pa, ra), growth_bits(&one));
 }
 
+/// The same with cohesive new segments (`growth.cohesive`, issue 20): the tractions are
+/// spread from the crack particles, in order, serially.
+#[test]
+fn cohesive_growth_is_identical_after_shuffling_particles_and_on_one_thread() {
+    let scene = three_point_bend(4.0, 0.1, "max_hoop_stress", 0.17).set("cracks.0.fracture.growth.cohesive", "{ strength = 20.0 }").load().unwrap();
+    let (pa, ra) = shuffled_growth_is_identical(scene.clone());
+    let mut one = scene.build().unwrap();
+    rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| one.run_until(0.17, |_| {})).unwrap();
+    assert_eq!((pa, ra), growth_bits(&one));
+}
+
 fn growth_bits(s: &cramp::simulation::Simulation) -> (Vec<u64>, Vec<u64>) {
     let c = &s.cracks[0];
     let g = s.growth.as_ref().unwrap();

@@ -1,0 +1,263 @@
+//! Cohesive new segments (2D; issue 20 item 2): a traction–separation law on the crack
+//! segments that growth adds, a modelling choice beyond the papers, off by default
+//! (`cracks[].fracture.growth.cohesive`).
+//!
+//! Why: the papers' growth step (001 §2.3.2) frees the material across a new segment at
+//! once. Nothing in the discrete crack consumes energy, so the run's own energy balance
+//! W_ext + W_b − U − T − D stays constant while the crack grows: the energy the far field
+//! gives up rings in the freed faces, and the criterion's J is not the energy released
+//! (case `growth_j`, papers' release: G ≈ −0.01 G_c). A timed release of the faces
+//! ([`crate::fracture::release`]) consumes energy, but what it consumes is set by its
+//! timing, not by the material: under a criterion it gave J/G − 1 = +57 … +88 % in the
+//! DCB's bursts. A cohesive zone makes the energy consumed per unit of new crack the
+//! material's G_c by construction, and the J-integral around a contour that encloses the
+//! zone is the work of its tractions (Rice 1968, J = ∫₀^δ_t T dδ): J = G in steady growth.
+//!
+//! **Law** (triangular, normal opening only; Hillerborg, Modéer & Petersson 1976 for the
+//! softening, Camacho & Ortiz 1996 / Nairn's traction laws for the explicit setting):
+//!   T(δ) = k δ                                   0 ≤ δ ≤ δ_p   (rising, k = ρ c_d²/h)
+//!   T(δ) = σ_c (δ_c − δ)/(δ_c − δ_p)              δ_p < δ < δ_c (softening)
+//!   T(δ) = 0                                     δ ≥ δ_c       (free faces)
+//! with σ_c the scene's `strength`, δ_p = σ_c/k and δ_c = 2 G_c/σ_c so that the area
+//! under the law is G_c = K_Ic²/E' of the material (plane stress E' = E, plane strain
+//! E/(1 − ν²)). Below the largest opening reached, δ_max, the law unloads linearly to the
+//! origin, T = T(δ_max) δ/δ_max (damage: no healing); δ ≤ 0 carries no traction (closing
+//! faces are crack contact's business). The rising stiffness k = ρ c_d²/h (P-wave modulus
+//! over one cell) is the stiffness of one cell of the material across the segment: a
+//! segment before its peak is about as stiff as the material it replaced, and the pair of
+//! fields it joins stays within the explicit step's stability limit at every CFL number
+//! the solver accepts. Tangential (mode II) traction is not modelled: the faces slide
+//! freely, so the law is for opening-dominated growth.
+//!
+//! **Where it acts.** Every crack particle (vertex) of a cohesive segment carries the
+//! traction of its own normal opening δ = (above − below)·n̂ (the tracked surfaces, 004
+//! §2.1) over its tributary length w (half of each neighbouring cohesive segment) times
+//! the body's thickness: a force F = T w t. Like a crack particle's contribution to
+//! anything on the grid, F goes to the nodes of the cell holding the vertex with linear
+//! weights N_i, on the above field as −F N_i n̂ and on the below field as +F N_i n̂
+//! (equal and opposite: momentum is conserved and every node's total force unchanged; a
+//! node with a single field gets nothing). The forces are added to Task 3's before the
+//! fixed directions are zeroed, so a held node keeps its condition and its reaction
+//! includes them. Their work, −F (v_a − v_b)·n̂ summed, is the energy the zone consumes:
+//! the run's balance falls by it.
+//!
+//! **When the tip advances.** With a cohesive law the crack's polyline tip is the leading
+//! edge of the cohesive zone. At each growth evaluation a tip advances by the increment
+//! when the crack particle one increment behind it (the previous tip) has reached the
+//! law's peak (δ_max ≥ δ_p: the material there carried σ_c) — a strength criterion at
+//! the zone's front, the zone's own, in place of K_eq ≥ K_Ic. A tip with no cohesive
+//! segment yet is seeded with one as soon as its material's criterion gives a direction
+//! (K_I > 0): the seed, before its peak, is about as stiff as the material it replaced.
+//! The direction is the material criterion's θ_c from K_I, K_II (001 eqs. 18–19) and the
+//! Rayleigh speed still limits the tip.
+use crate::crack::side_field;
+use crate::dim::Vector;
+use crate::simulation::Simulation;
+
+/// `growth.cohesive` of a crack.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CohesiveSettings {
+    /// Peak traction σ_c.
+    pub strength: f64,
+}
+
+/// The triangular law of one material: peak σ_c at δ_p, zero at δ_c.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CohesiveLaw {
+    pub strength: f64,
+    pub delta_p: f64,
+    pub delta_c: f64,
+}
+
+impl CohesiveLaw {
+    /// The law of strength `strength` with toughness `g_c` (area under the law) on a
+    /// material of P-wave modulus `m` (ρ c_d²) and a grid of cell `h`; Err when the
+    /// rising part would reach past half of δ_c (the cell is too coarse for the zone).
+    pub fn new(strength: f64, g_c: f64, m: f64, h: f64) -> Result<Self, String> {
+        let delta_p = strength * h / m;
+        let delta_c = 2.0 * g_c / strength;
+        if !(delta_p <= 0.5 * delta_c) {
+            return Err(format!(
+                "too strong for the cell: the law's opening at its peak, σ_c h/(ρ c_d²) = {delta_p:.4e}, must be at most half its final opening 2 G_c/σ_c = {delta_c:.4e} \
+                 (σ_c ≤ √(G_c ρ c_d²/h) = {:.4e}); lower the strength or refine the grid",
+                (g_c * m / h).sqrt()
+            ));
+        }
+        Ok(CohesiveLaw { strength, delta_p, delta_c })
+    }
+
+    /// The envelope T(δ) for δ ≥ 0 (module doc).
+    fn envelope(&self, delta: f64) -> f64 {
+        if delta <= self.delta_p {
+            self.strength * delta / self.delta_p
+        } else if delta < self.delta_c {
+            self.strength * (self.delta_c - delta) / (self.delta_c - self.delta_p)
+        } else {
+            0.0
+        }
+    }
+
+    /// Normal traction at opening `delta` with largest opening so far `delta_max`
+    /// (≥ 0 resists opening; 0 when closed or fully open).
+    pub fn traction(&self, delta: f64, delta_max: f64) -> f64 {
+        if !(delta > 0.0) {
+            0.0
+        } else if delta >= delta_max {
+            self.envelope(delta)
+        } else {
+            self.envelope(delta_max) * delta / delta_max
+        }
+    }
+}
+
+/// The cohesive segments of one crack.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CohesiveZone {
+    pub crack: usize,
+    /// Per segment of the crack's polyline (points k, k+1): its law and thickness when
+    /// growth added it, None for the segments of the initial crack.
+    pub segments: Vec<Option<(CohesiveLaw, f64)>>,
+    /// Per crack particle: the largest normal opening reached (0 until loaded).
+    pub delta_max: Vec<f64>,
+}
+
+impl CohesiveZone {
+    pub fn new(crack: usize, points: usize) -> Self {
+        CohesiveZone { crack, segments: vec![None; points.saturating_sub(1)], delta_max: vec![0.0; points] }
+    }
+
+    /// A segment was added at the start (`at_start`) or the end of the polyline.
+    pub fn added(&mut self, at_start: bool, law: CohesiveLaw, thickness: f64) {
+        if at_start {
+            self.segments.insert(0, Some((law, thickness)));
+            self.delta_max.insert(0, 0.0);
+        } else {
+            self.segments.push(Some((law, thickness)));
+            self.delta_max.push(0.0);
+        }
+    }
+
+    /// Has the tip at the start (`at_start`) or end a cohesive segment, and has the crack
+    /// particle one segment behind the tip reached the law's peak? None: no cohesive
+    /// segment at that tip yet.
+    pub fn tip_ready(&self, at_start: bool) -> Option<bool> {
+        let n = self.segments.len();
+        let (seg, behind) = if at_start { (0, 1) } else { (n.checked_sub(1)?, n.checked_sub(1)?) };
+        let (law, _) = self.segments.get(seg).copied().flatten()?;
+        Some(self.delta_max[behind] >= law.delta_p)
+    }
+}
+
+impl Simulation {
+    /// Add the cohesive tractions to Task 3's forces (module doc); first update each
+    /// cohesive crack particle's largest opening. Serial over the crack particles in
+    /// order: the sums do not depend on particle order or threads.
+    pub(crate) fn apply_cohesive(&mut self) {
+        let Some(growth) = self.growth.as_mut() else { return };
+        if growth.cohesive.is_empty() {
+            return;
+        }
+        let mut zones = std::mem::take(&mut growth.cohesive);
+        let mut pairs: Vec<(usize, Vector, Vector)> = Vec::new();
+        for zone in zones.iter_mut() {
+            let c = zone.crack;
+            let crack = &self.cracks[c];
+            let n = crack.points.len();
+            for k in 0..n {
+                let left = if k > 0 { zone.segments[k - 1] } else { None };
+                let right = if k + 1 < n { zone.segments[k] } else { None };
+                if left.is_none() && right.is_none() {
+                    continue;
+                }
+                let (delta, _) = crack.opening_nt(k);
+                zone.delta_max[k] = zone.delta_max[k].max(delta);
+                let Some(t) = crack.tangent(k) else { continue };
+                let n_above = Vector::new(-t.y, t.x);
+                // Traction times tributary length and thickness, from each side's law.
+                let mut force = 0.0;
+                if let Some((law, thick)) = left {
+                    force += law.traction(delta, zone.delta_max[k]) * 0.5 * (crack.points[k] - crack.points[k - 1]).norm() * thick;
+                }
+                if let Some((law, thick)) = right {
+                    force += law.traction(delta, zone.delta_max[k]) * 0.5 * (crack.points[k + 1] - crack.points[k]).norm() * thick;
+                }
+                if force == 0.0 {
+                    continue;
+                }
+                pairs.push((c, crack.points[k], n_above * force));
+            }
+        }
+        self.growth.as_mut().expect("growth").cohesive = zones;
+        for (c, x, f) in pairs {
+            self.spread_pair(c, x, f);
+        }
+    }
+
+    /// Add −`f` N_i to the above field and +`f` N_i to the below field of the nodes of
+    /// the cell holding `x` (linear weights N_i), where crack `c` split the node.
+    fn spread_pair(&mut self, c: usize, x: Vector, f: Vector) {
+        let g = &self.grid;
+        let s = Vector::new((x.x - g.origin.x) / g.h.x, (x.y - g.origin.y) / g.h.y);
+        if !(s.x >= 0.0 && s.y >= 0.0 && s.x <= g.nx as f64 && s.y <= g.ny as f64) {
+            return;
+        }
+        let (ix, iy) = ((s.x.floor() as usize).min(g.nx - 1), (s.y.floor() as usize).min(g.ny - 1));
+        let (fx, fy) = (s.x - ix as f64, s.y - iy as f64);
+        for (dx, dy, w) in [(0, 0, (1.0 - fx) * (1.0 - fy)), (1, 0, fx * (1.0 - fy)), (0, 1, (1.0 - fx) * fy), (1, 1, fx * fy)] {
+            if w == 0.0 {
+                continue;
+            }
+            let i = g.node_index(ix + dx, iy + dy);
+            let nodes = &mut self.nodes;
+            let (present, node_crack) = (nodes.present[i], nodes.crack[i]);
+            let (Some(a), Some(b)) = (side_field(present, node_crack, c, true, || 0), side_field(present, node_crack, c, false, || 0)) else { continue };
+            if a == b {
+                continue;
+            }
+            nodes.fields[a].ftot[i] -= f * w;
+            nodes.fields[b].ftot[i] += f * w;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_law_encloses_g_c_and_unloads_to_the_origin() {
+        // σ_c = 2, G_c = 0.01, ρc_d² = 1000, h = 1: δ_p = 0.002, δ_c = 0.01.
+        let law = CohesiveLaw::new(2.0, 0.01, 1000.0, 1.0).unwrap();
+        assert!((law.delta_p - 0.002).abs() < 1e-15 && (law.delta_c - 0.01).abs() < 1e-15);
+        // Area under the envelope (trapezoid rule is exact on the piecewise-linear law
+        // with a node at δ_p).
+        let n = 1000;
+        let d = law.delta_c / n as f64;
+        let area: f64 = (0..n).map(|i| 0.5 * d * (law.traction(i as f64 * d, i as f64 * d) + law.traction((i + 1) as f64 * d, (i + 1) as f64 * d))).sum();
+        assert!((area - 0.01).abs() < 1e-12, "area {area}");
+        assert_eq!(law.traction(law.delta_p, law.delta_p), 2.0);
+        // Unloading from δ_max = 0.006 (T = 1) is linear to the origin; closed: nothing.
+        assert!((law.traction(0.003, 0.006) - 0.5).abs() < 1e-12);
+        assert_eq!(law.traction(-1e-3, 0.006), 0.0);
+        assert_eq!(law.traction(0.02, 0.02), 0.0);
+    }
+
+    #[test]
+    fn a_law_too_strong_for_the_cell_is_refused() {
+        // δ_p = 0.02 > δ_c/2 = 0.005.
+        let e = CohesiveLaw::new(20.0, 0.05, 1000.0, 1.0).unwrap_err();
+        assert!(e.contains("too strong for the cell"), "{e}");
+    }
+
+    #[test]
+    fn the_tip_is_ready_once_the_particle_behind_it_peaked() {
+        let law = CohesiveLaw::new(2.0, 0.01, 1000.0, 1.0).unwrap();
+        let mut z = CohesiveZone::new(0, 2);
+        assert_eq!(z.tip_ready(false), None);
+        z.added(false, law, 1.0);
+        assert_eq!(z.tip_ready(false), Some(false));
+        z.delta_max[1] = 0.002;
+        assert_eq!(z.tip_ready(false), Some(true));
+        assert_eq!(z.tip_ready(true), None);
+    }
+}
