@@ -13,28 +13,34 @@
 //! material's G_c by construction, and the J-integral around a contour that encloses the
 //! zone is the work of its tractions (Rice 1968, J = ∫₀^δ_t T dδ): J = G in steady growth.
 //!
-//! **Law** (triangular, normal opening only; Hillerborg, Modéer & Petersson 1976 for the
-//! softening, Camacho & Ortiz 1996 / Nairn's traction laws for the explicit setting):
+//! **Law** (triangular; Hillerborg, Modéer & Petersson 1976 for the softening, Camacho &
+//! Ortiz 1996 for the effective opening and the explicit setting), on the effective opening
+//! λ = √(⟨δ_n⟩² + δ_t²) (⟨δ_n⟩ the normal opening where positive, δ_t the sliding):
 //!   T(δ) = k δ                                   0 ≤ δ ≤ δ_p   (rising, k = ρ c_d²/h)
 //!   T(δ) = σ_c (δ_c − δ)/(δ_c − δ_p)              δ_p < δ < δ_c (softening)
 //!   T(δ) = 0                                     δ ≥ δ_c       (free faces)
 //! with σ_c the scene's `strength`, δ_p = σ_c/k and δ_c = 2 G_c/σ_c so that the area
 //! under the law is G_c = K_Ic²/E' of the material (plane stress E' = E, plane strain
-//! E/(1 − ν²)). Below the largest opening reached, δ_max, the law unloads linearly to the
-//! origin, T = T(δ_max) δ/δ_max (damage: no healing); δ ≤ 0 carries no traction (closing
-//! faces are crack contact's business). The rising stiffness k = ρ c_d²/h (P-wave modulus
+//! E/(1 − ν²)), in any mode under proportional opening. The traction is the secant
+//! stiffness of the largest effective opening reached, s = T(λ_max)/λ_max (k on the
+//! rising part), times the opening: T_n = s⟨δ_n⟩, T_t = s δ_t — the law unloads linearly
+//! to the origin (damage: no healing), and a closed segment carries no normal traction
+//! (closing faces are crack contact's business) but keeps its shear stiffness until it
+//! has softened. The rising stiffness k = ρ c_d²/h (P-wave modulus
 //! over one cell) is the stiffness of one cell of the material across the segment: a
 //! segment before its peak is about as stiff as the material it replaced, and the pair of
 //! fields it joins stays within the explicit step's stability limit at every CFL number
-//! the solver accepts. Tangential (mode II) traction is not modelled: the faces slide
-//! freely, so the law is for opening-dominated growth.
+//! the solver accepts. The same k in sliding (stiffer than one cell's shear, μ/h, and as
+//! stable) keeps a new segment from sliding before it softens: a free-sliding seed turned
+//! the mode II kink of `mode_ii_kink` by a further −47° at its second check.
 //!
 //! **Where it acts.** Every crack particle (vertex) of a cohesive segment carries the
-//! traction of its own normal opening δ = (above − below)·n̂ (the tracked surfaces, 004
-//! §2.1) over its tributary length w (half of each neighbouring cohesive segment) times
-//! the body's thickness: a force F = T w t. Like a crack particle's contribution to
-//! anything on the grid, F goes to the nodes of the cell holding the vertex with linear
-//! weights N_i, on the above field as −F N_i n̂ and on the below field as +F N_i n̂
+//! traction of its own opening (above − below in the crack's normal n̂ and tangent t̂ at
+//! the particle; the tracked surfaces, 004 §2.1) over its tributary length w (half of each
+//! neighbouring cohesive segment) times the body's thickness: a force F = (T_n n̂ + T_t t̂)
+//! w t. Like a crack particle's contribution to anything on the grid, F goes to the nodes
+//! of the cell holding the vertex with linear weights N_i, on the above field as −F N_i
+//! and on the below field as +F N_i
 //! (equal and opposite: momentum is conserved and every node's total force unchanged; a
 //! node with a single field gets nothing). The forces are added to Task 3's before the
 //! fixed directions are zeroed, so a held node keeps its condition and its reaction
@@ -46,9 +52,10 @@
 //! when the crack particle one increment behind it (the previous tip) has reached the
 //! law's peak (δ_max ≥ δ_p: the material there carried σ_c) — a strength criterion at
 //! the zone's front, the zone's own, in place of K_eq ≥ K_Ic. A tip with no cohesive
-//! segment yet is seeded with one at its first check at which the material's criterion
-//! gives a direction (straight ahead while unloaded): the seed, before its peak, is about
-//! as stiff as the material it replaced. The direction is the material criterion's θ_c
+//! segment yet is seeded with one at its first check with the tip loaded (K_eq > 0), in
+//! the direction θ_c of that first load: the seed, before its peak, is about as stiff as
+//! the material it replaced (a load whose mode mix turns later turns the following
+//! segments, not the seed). The direction is the material criterion's θ_c
 //! from K_I, K_II (001 eqs. 18–19) and the Rayleigh speed and `max_speed` still limit the
 //! tip.
 //!
@@ -106,16 +113,20 @@ impl CohesiveLaw {
         }
     }
 
-    /// Normal traction at opening `delta` with largest opening so far `delta_max`
-    /// (≥ 0 resists opening; 0 when closed or fully open).
-    pub fn traction(&self, delta: f64, delta_max: f64) -> f64 {
-        if !(delta > 0.0) {
-            0.0
-        } else if delta >= delta_max {
-            self.envelope(delta)
+    /// Secant stiffness after the largest effective opening `lambda_max`: k while it is
+    /// on the rising part (or unloaded), T(λ_max)/λ_max once softening, 0 once free.
+    pub fn secant(&self, lambda_max: f64) -> f64 {
+        if lambda_max <= self.delta_p {
+            self.strength / self.delta_p
         } else {
-            self.envelope(delta_max) * delta / delta_max
+            self.envelope(lambda_max) / lambda_max
         }
+    }
+
+    /// Normal traction at normal opening `delta` in pure mode I with largest opening so
+    /// far `delta_max` ≥ `delta` (≥ 0 resists opening; 0 when closed or fully open).
+    pub fn traction(&self, delta: f64, delta_max: f64) -> f64 {
+        self.secant(delta_max.max(delta)) * delta.max(0.0)
     }
 }
 
@@ -178,22 +189,24 @@ impl Simulation {
                 if left.is_none() && right.is_none() {
                     continue;
                 }
-                let (delta, _) = crack.opening_nt(k);
-                zone.delta_max[k] = zone.delta_max[k].max(delta);
+                let (dn, ds) = crack.opening_nt(k);
+                let lambda = (dn.max(0.0) * dn.max(0.0) + ds * ds).sqrt();
+                zone.delta_max[k] = zone.delta_max[k].max(lambda);
                 let Some(t) = crack.tangent(k) else { continue };
                 let n_above = Vector::new(-t.y, t.x);
-                // Traction times tributary length and thickness, from each side's law.
-                let mut force = 0.0;
+                // Secant stiffness times tributary length and thickness, from each side's law.
+                let mut stiffness = 0.0;
                 if let Some((law, thick)) = left {
-                    force += law.traction(delta, zone.delta_max[k]) * 0.5 * (crack.points[k] - crack.points[k - 1]).norm() * thick;
+                    stiffness += law.secant(zone.delta_max[k]) * 0.5 * (crack.points[k] - crack.points[k - 1]).norm() * thick;
                 }
                 if let Some((law, thick)) = right {
-                    force += law.traction(delta, zone.delta_max[k]) * 0.5 * (crack.points[k + 1] - crack.points[k]).norm() * thick;
+                    stiffness += law.secant(zone.delta_max[k]) * 0.5 * (crack.points[k + 1] - crack.points[k]).norm() * thick;
                 }
-                if force == 0.0 {
+                let f = (n_above * dn.max(0.0) + t * ds) * stiffness;
+                if f == Vector::zeros() {
                     continue;
                 }
-                pairs.push((c, crack.points[k], n_above * force));
+                pairs.push((c, crack.points[k], f));
             }
         }
         self.growth.as_mut().expect("growth").cohesive = zones;

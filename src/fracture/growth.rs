@@ -429,11 +429,12 @@ impl Simulation {
                 let mut grew = false;
                 let meets = match cg.settings.cohesive {
                     // The zone's own rule (cohesive module doc): seed a first cohesive
-                    // segment once there is a direction; then advance when the crack
-                    // particle behind the tip has reached the law's peak.
+                    // segment once the tip is loaded (K_eq > 0, so that θ_c is the load's);
+                    // then advance when the crack particle behind the tip has reached the
+                    // law's peak.
                     Some(_) => {
                         let zone = growth.cohesive.iter().find(|z| z.crack == c).expect("cohesive zone");
-                        toughness.is_some() && dir.is_some() && zone.tip_ready(end == TipEnd::Start).unwrap_or(true)
+                        toughness.is_some() && dir.is_some() && zone.tip_ready(end == TipEnd::Start).unwrap_or(k_eq > 0.0)
                     }
                     None => matches!((toughness, dir), (Some(t), Some((_, keq))) if keq >= t.kic),
                 };
