@@ -183,6 +183,7 @@ impl Simulation {
             let c = zone.crack;
             let crack = &self.cracks[c];
             let n = crack.points.len();
+            debug_assert_eq!(zone.segments.len() + 1, n, "crack {c}: the cohesive zone's segments follow the polyline");
             for k in 0..n {
                 let left = if k > 0 { zone.segments[k - 1] } else { None };
                 let right = if k + 1 < n { zone.segments[k] } else { None };
