@@ -68,6 +68,7 @@
 //! shorter than corrected beam theory's LEFM length (the zone adds compliance).
 use crate::crack::side_field;
 use crate::dim::Vector;
+use crate::shape::{self, ShapeKind};
 use crate::simulation::Simulation;
 
 /// `growth.cohesive` of a crack.
@@ -216,29 +217,21 @@ impl Simulation {
         }
     }
 
-    /// Add −`f` N_i to the above field and +`f` N_i to the below field of the nodes of
-    /// the cell holding `x` (linear weights N_i), where crack `c` split the node.
+    /// Add −`f` N_i to the above field and +`f` N_i to the below field of the nodes
+    /// around `x` (linear shape functions, as Task 7 reads the grid at a crack particle),
+    /// where crack `c` split the node.
     fn spread_pair(&mut self, c: usize, x: Vector, f: Vector) {
-        let g = &self.grid;
-        let s = Vector::new((x.x - g.origin.x) / g.h.x, (x.y - g.origin.y) / g.h.y);
-        if !(s.x >= 0.0 && s.y >= 0.0 && s.x <= g.nx as f64 && s.y <= g.ny as f64) {
-            return;
-        }
-        let (ix, iy) = ((s.x.floor() as usize).min(g.nx - 1), (s.y.floor() as usize).min(g.ny - 1));
-        let (fx, fy) = (s.x - ix as f64, s.y - iy as f64);
-        for (dx, dy, w) in [(0, 0, (1.0 - fx) * (1.0 - fy)), (1, 0, fx * (1.0 - fy)), (0, 1, (1.0 - fx) * fy), (1, 1, fx * fy)] {
-            if w == 0.0 {
-                continue;
-            }
-            let i = g.node_index(ix + dx, iy + dy);
-            let nodes = &mut self.nodes;
+        let w = shape::weights(&self.grid, ShapeKind::Linear, &x, &Vector::zeros());
+        let nodes = &mut self.nodes;
+        for (&node, &s) in w.node[..w.n].iter().zip(&w.s[..w.n]) {
+            let i = node as usize;
             let (present, node_crack) = (nodes.present[i], nodes.crack[i]);
             let (Some(a), Some(b)) = (side_field(present, node_crack, c, true, || 0), side_field(present, node_crack, c, false, || 0)) else { continue };
             if a == b {
                 continue;
             }
-            nodes.fields[a].ftot[i] -= f * w;
-            nodes.fields[b].ftot[i] += f * w;
+            nodes.fields[a].ftot[i] -= f * s;
+            nodes.fields[b].ftot[i] += f * s;
         }
     }
 }

@@ -587,13 +587,15 @@ impl Simulation {
         }
     }
 
-    /// Index of the material of the particle nearest to `x` (ties: lowest id).
-    /// Thickness of the body of the particle nearest `x` (ties to the lowest id).
-    pub fn thickness_near(&self, x: Vector) -> f64 {
+    /// The particle nearest to `x` (ties: lowest id), None without particles.
+    fn nearest_particle(&self, x: Vector) -> Option<usize> {
         let p = &self.particles;
-        (0..p.len())
-            .min_by(|&a, &b| (p.x[a] - x).norm_squared().total_cmp(&(p.x[b] - x).norm_squared()).then(p.id[a].cmp(&p.id[b])))
-            .map_or(1.0, |i| self.thickness[p.body[i] as usize])
+        (0..p.len()).min_by(|&a, &b| (p.x[a] - x).norm_squared().total_cmp(&(p.x[b] - x).norm_squared()).then(p.id[a].cmp(&p.id[b])))
+    }
+
+    /// Thickness of the body of the particle nearest `x` (ties: lowest id).
+    pub fn thickness_near(&self, x: Vector) -> f64 {
+        self.nearest_particle(x).map_or(1.0, |i| self.thickness[self.particles.body[i] as usize])
     }
 
     /// The cohesive law of material `mat` for `settings` with toughness `kic`:
@@ -604,11 +606,9 @@ impl Simulation {
         crate::fracture::cohesive::CohesiveLaw::new(settings.strength, kic * kic / m.e_prime(), m.rho * c_d * c_d, self.grid.min_h())
     }
 
+    /// Index of the material of the particle nearest to `x` (ties: lowest id).
     pub fn material_index_near(&self, x: Vector) -> Option<usize> {
-        let p = &self.particles;
-        (0..p.len())
-            .min_by(|&a, &b| (p.x[a] - x).norm_squared().total_cmp(&(p.x[b] - x).norm_squared()).then(p.id[a].cmp(&p.id[b])))
-            .map(|i| p.material[i] as usize)
+        self.nearest_particle(x).map(|i| self.particles.material[i] as usize)
     }
 }
 
