@@ -875,10 +875,10 @@ impl Scene {
                 if let Some(r) = fr.circle {
                     positive(&format!("cracks[{i}].fracture.circle"), r)?;
                 }
-                if fr.cod == CodMethod::Interaction && (fr.circle.is_some() || fr.growth.is_some() || fr.area_term) {
+                if fr.cod == CodMethod::Interaction && (fr.circle.is_some() || fr.growth.as_ref().is_some_and(|g| g.speed_correction)) {
                     return Err(invalid(
                         format!("cracks[{i}].fracture.cod"),
-                        "\"interaction\" is the static interaction integral on the rectangular contour: not with `circle`, `growth` (moving tips need the speed factors of the opening split) or `area_term` (no inertial term); use \"next_to_tip\" or \"fit\" there",
+                        "\"interaction\" is the interaction integral on the rectangular contour: not with `circle`, nor with growth's `speed_correction` (the speed factors convert crack openings, not the interaction integral's K's); use \"next_to_tip\" or \"fit\" there",
                     ));
                 }
                 if fr.contour == 0 {
@@ -1188,6 +1188,11 @@ impl Scene {
         }
         for (c, crack) in self.cracks.iter().enumerate() {
             if let Some(f) = &crack.fracture {
+                if f.cod == CodMethod::Interaction && f.area_term {
+                    out.push(format!(
+                        "cracks[{c}].fracture.cod = \"interaction\" with area_term: the K_I : K_II ratio is the static interaction integral's (no inertial term; J, the magnitude, keeps it) — verified for stationary cracks under slow loading (case crack_rotation) and, as a growth direction, on growth_j's shear plate; not as K_II of a dynamically loaded crack"
+                    ));
+                }
                 if f.cod == CodMethod::Fit && f.growth.is_some() {
                     out.push(format!(
                         "cracks[{c}].fracture.cod = \"fit\" on a growing crack is unverified (verified for stationary cracks only, case split_beams_k); \"next_to_tip\" is the papers' method for growth"

@@ -130,9 +130,24 @@ pub enum CodMethod {
     /// It reads stresses and displacement gradients on the contour, two or more cells from
     /// the tip, not the crack surfaces next to it, so it does not see how the few
     /// particle–node pairs at the tip fall into fields (issue 20: a stationary mode I
-    /// crack turned 45° on the grid gave K_II = 0.21 K_I from the opening). Static form:
-    /// for stationary cracks under slow loading (no inertial term; refused on growing
-    /// cracks and with `circle`). The δ_I, δ_II written beside it are the next-to-tip ones.
+    /// crack turned 45° on the grid gave K_II = 0.21 K_I from the opening).
+    ///
+    /// **Frame: the chord.** The auxiliary crack runs straight back from the tip along
+    /// −e₁′ and must leave the contour where the real crack does (the integral's path
+    /// independence needs traction-free faces on both fields between the contour and the
+    /// tip), so e₁′ is the chord from the contour's cut on the crack to the tip, not the
+    /// last segment: equal for a straight crack, but a growing crack's last segment (an
+    /// increment of ½ cell) is far shorter than the contour, and split in its frame the
+    /// contour reads the older crack's direction as a K_II that turns the next increment
+    /// back past the path — the crack zigzags (mode II plate with cohesive segments,
+    /// 5-cell contour: θ_c alternating ±50°; in the chord frame within a few degrees
+    /// once the branch is longer than the contour; case growth_j). Growth then turns
+    /// θ_c from the chord too, i.e. a kinked path is followed at the contour's scale.
+    ///
+    /// Static form: the ratio has no inertial term (with `area_term` the magnitude J keeps
+    /// its own; `cramp run` warns). Refused with `circle` (no rectangular contour) and
+    /// with growth's `speed_correction` (the speed factors convert openings, not K's).
+    /// The δ_I, δ_II written beside it are the next-to-tip ones, in the chord frame.
     Interaction,
 }
 
@@ -237,6 +252,13 @@ fn integrand(s: &NodalState, n: Vector) -> Vector {
     let energy = s.strain_energy + s.kinetic_energy;
     // Σ_i t_i ∂u_i/∂x_m = (grad_uᵀ t)_m
     n * energy - s.grad_u.transpose() * traction
+}
+
+/// The unit chord from `cut` (where a contour meets the crack) to the tip; None if they
+/// coincide.
+fn chord_direction(tip: Vector, cut: Vector) -> Option<Vector> {
+    let v = tip - cut;
+    (v.norm() > 0.0).then(|| v.normalize())
 }
 
 /// K_I, K_II by the interaction integral ([`CodMethod::Interaction`]) on the cut contour
@@ -379,7 +401,14 @@ impl Simulation {
     #[allow(clippy::too_many_arguments)]
     fn tip_result(&self, c: usize, end: TipEnd, j_line: Vector, j_area: Vector, cod: CodMethod, speed: f64, pts: Option<&[ContourPoint]>) -> Result<TipResult, FractureError> {
         let crack = &self.cracks[c];
-        let (tip, d, e2, next_to_tip) = self.tip_frame(c, end);
+        let (tip, d_segment, _, next_to_tip) = self.tip_frame(c, end);
+        // The interaction integral's frame is the chord from the contour's cut on the
+        // crack to the tip (CodMethod::Interaction); the others keep the last segment's.
+        let d = match (cod, pts) {
+            (CodMethod::Interaction, Some(pts)) => chord_direction(tip, pts[0].x).unwrap_or(d_segment),
+            _ => d_segment,
+        };
+        let e2 = Vector::new(-d.y, d.x);
         let upper_is_above = end == TipEnd::End;
         let j = j_line + j_area;
 
