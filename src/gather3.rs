@@ -174,7 +174,13 @@ impl Sum4 for Acc4x3 {
 /// Returns the sums and the bit mask of the lanes certified.
 #[inline(always)]
 unsafe fn certify4(acc: &Acc4, n2: __m256d) -> (__m256d, i32) {
-    let (s, c, a, m) = (acc.s, acc.c, acc.a, acc.m);
+    certify4_parts(acc.s, acc.c, acc.a, acc.m, n2)
+}
+
+/// [`certify4`] on its parts: running sum `s`, compensation `c`, Σ|x| (or a bound of it,
+/// see [`velocity_gradient`]) `a`, min |x| (or a lower bound of it) `m`.
+#[inline(always)]
+unsafe fn certify4_parts(s: __m256d, c: __m256d, a: __m256d, m: __m256d, n2: __m256d) -> (__m256d, i32) {
     let p2 = |k: i32| _mm256_set1_pd(f64::from_bits(((1023 + k) as u64) << 52));
     let db = _mm256_mul_pd(n2, _mm256_mul_pd(p2(-104), a));
     // TwoSum(s, c) = (r, t2).
@@ -303,14 +309,69 @@ pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4
     Some(out)
 }
 
+/// Four lanes of a compensated sum without [`Acc4`]'s Σ|x| and min |x|: running sum and
+/// compensation only (the same TwoSum and compensation operations as `FastSum::add`, so
+/// the same s and c). [`velocity_gradient`] certifies it with bounds of Σ|x| and min |x|
+/// formed from the factors of its terms.
+#[derive(Clone, Copy)]
+struct Acc4sc {
+    s: __m256d,
+    c: __m256d,
+}
+
+impl Acc4sc {
+    #[inline(always)]
+    unsafe fn new() -> Self {
+        Acc4sc { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd() }
+    }
+
+    #[inline(always)]
+    unsafe fn add(&mut self, x: __m256d) {
+        let s0 = self.s;
+        let s = _mm256_add_pd(s0, x);
+        let bb = _mm256_sub_pd(s, s0);
+        let t = _mm256_add_pd(_mm256_sub_pd(s0, _mm256_sub_pd(s, bb)), _mm256_sub_pd(x, bb));
+        self.s = s;
+        self.c = _mm256_add_pd(self.c, t);
+    }
+}
+
 /// `velocity_gradient::<Fast, false>` of particle `i`: lanes v_a·G_b, row a in one vector.
+///
+/// The sums s and c are `FastSum`'s; its two certificates (see [`crate::exact::FastSum`])
+/// are evaluated with a bound of Σ|x| and a lower bound of min |x| formed from the factors
+/// of the terms x_k = fl(v_a(k)·G_b(k)) (n pairs k) instead of per term, which keeps the
+/// three rows' accumulators in registers (issue 14). With V_a = max_k |v_a(k)|,
+/// W_a = min_k |v_a(k)|, S_b = fl(Σ_k |G_b(k)|) (recursive sum) and M_b = min_k |G_b(k)|:
+///
+/// * a' = fl(V_a·S_b) bounds Σ|x_k| as the certificates need. Rounding to nearest is
+///   monotone and |G_b(k)| ≤ S_b (each partial sum of non-negative terms is at least each
+///   term), so |x_k| ≤ fl(V_a·|G_b(k)|) ≤ a' for every k; and with u = 2^−53,
+///   A = Σ|x_k| ≤ (1+u)·V_a·Σ|G_b(k)|, S_b ≥ (1−γ_{n−1})·Σ|G_b(k)| (Higham §4.2), so
+///   a' ≥ (1−u)²(1−γ_{n−1})/(1+u)·A when a' ≥ 2^−800 (no underflow; the certificates
+///   require that range). `FastSum`'s proof needs db = fl(n²·(2^−104·a)) > 2δ with
+///   δ ≤ n²u²A(1 + 10⁻⁵); here db ≥ 4n²u²a'(1−u) ≥ 3.9·n²u²A for n ≤ 2^20, so
+///   both certificates keep their margins (`2·db < h − |t₂|` still implies δ < h − |t₂|).
+/// * m' = fl(W_a·M_b) ≤ fl(|v_a(k)|·|G_b(k)|) = |x_k| for every k (monotone rounding), so
+///   certificate 1's q > m·2^−53 ≥ m'·2^−53 holds, and m' ≥ 2^−900 makes every term normal.
+/// * a' = 0 only if every term is ±0 (|x_k| ≤ a'), the case the certificates take as the
+///   IEEE sum s.
+/// * A non-finite term (a NaN or ∞ factor, or an overflowing product) would not show in
+///   a' (`maxpd` does not keep a NaN), so the sums are certified only when s is finite:
+///   s, the IEEE sum of the terms, is NaN or ±∞ whenever a term is.
+///
+/// So a certified lane is the correctly rounded sum, as with `FastSum`'s own Σ|x| and
+/// min |x|; the bounds are looser, so a few more sums may fail and take the rerun.
 #[target_feature(enable = "avx2")]
 pub(crate) unsafe fn velocity_gradient(sim: &Simulation<D3>, i: usize) -> Option<Tensor3> {
     let pairs = &sim.pairs;
     let k = pairs.of_particle(i);
     let vel = sim.nodes.fields[0].vel.as_ptr() as *const f64;
     let (node, g) = (pairs.node.as_ptr(), pairs.g.as_ptr() as *const f64);
-    let mut acc = [Acc4::new(); 3];
+    let mut acc = [Acc4sc::new(); 3];
+    let sign = _mm256_set1_pd(-0.0);
+    let mut vmax = _mm256_setzero_pd();
+    let mut gsum = _mm256_setzero_pd();
     for k in k.clone() {
         let n = *node.add(k) as usize;
         debug_assert!(n < sim.nodes.fields[0].vel.len());
@@ -319,9 +380,65 @@ pub(crate) unsafe fn velocity_gradient(sim: &Simulation<D3>, i: usize) -> Option
         acc[0].add(_mm256_mul_pd(_mm256_broadcast_sd(&*v), gv));
         acc[1].add(_mm256_mul_pd(_mm256_broadcast_sd(&*v.add(1)), gv));
         acc[2].add(_mm256_mul_pd(_mm256_broadcast_sd(&*v.add(2)), gv));
+        let av = _mm256_andnot_pd(sign, load3(v));
+        vmax = _mm256_max_pd(vmax, av);
+        gsum = _mm256_add_pd(gsum, _mm256_andnot_pd(sign, gv));
     }
-    let t = Acc4::certified(k.len(), 3, &acc)?;
-    Some(Tensor3::from_fn(|a, b| t[a][b]))
+    let n = k.len();
+    if n == 0 {
+        return Some(Tensor3::zeros());
+    }
+    if n > 1 << 20 {
+        return None;
+    }
+    let nf = n as f64;
+    let n2 = _mm256_set1_pd(nf * nf);
+    let zero = _mm256_setzero_pd();
+    match certify_rows(&acc, vmax, gsum, [zero; 3], n2) {
+        Some(t) => Some(t),
+        None => velocity_gradient_min(sim, i, &acc, vmax, gsum, n2),
+    }
+}
+
+/// [`velocity_gradient`]'s certificates with the bound a' = fl(V_a·S_b) per row a (`vmax`
+/// holds V, `gsum` S) and the lower bounds m' of min |x| in `m` (one vector per row).
+#[inline(always)]
+unsafe fn certify_rows(acc: &[Acc4sc; 3], vmax: __m256d, gsum: __m256d, m: [__m256d; 3], n2: __m256d) -> Option<Tensor3> {
+    let mut vx = [0.0; 4];
+    _mm256_storeu_pd(vx.as_mut_ptr(), vmax);
+    let (sign, finite) = (_mm256_set1_pd(-0.0), _mm256_set1_pd(f64::MAX));
+    let mut t = [[0.0; 4]; 3];
+    let mut ok = true;
+    for r in 0..3 {
+        let a = _mm256_mul_pd(_mm256_set1_pd(vx[r]), gsum);
+        let (sum, mask) = certify4_parts(acc[r].s, acc[r].c, a, m[r], n2);
+        let fin = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_andnot_pd(sign, acc[r].s), finite));
+        _mm256_storeu_pd(t[r].as_mut_ptr(), sum);
+        ok &= mask & fin & 7 == 7;
+    }
+    ok.then(|| Tensor3::from_fn(|a, b| t[a][b]))
+}
+
+/// [`velocity_gradient`] when its first certification (m' = 0: certificate 2 only) failed
+/// somewhere: certificate 1 needs min |x| (exact sums, e.g. of a few terms of similar
+/// size), so a second pass over the pairs forms the lower bounds m' = fl(W_a·M_b).
+#[cold]
+#[inline(never)]
+#[target_feature(enable = "avx2")]
+unsafe fn velocity_gradient_min(sim: &Simulation<D3>, i: usize, acc: &[Acc4sc; 3], vmax: __m256d, gsum: __m256d, n2: __m256d) -> Option<Tensor3> {
+    let pairs = &sim.pairs;
+    let vel = sim.nodes.fields[0].vel.as_ptr() as *const f64;
+    let (node, g) = (pairs.node.as_ptr(), pairs.g.as_ptr() as *const f64);
+    let sign = _mm256_set1_pd(-0.0);
+    let (mut vmin, mut gmin) = (_mm256_set1_pd(f64::INFINITY), _mm256_set1_pd(f64::INFINITY));
+    for k in pairs.of_particle(i) {
+        let n = *node.add(k) as usize;
+        vmin = _mm256_min_pd(vmin, _mm256_andnot_pd(sign, load3(vel.add(3 * n))));
+        gmin = _mm256_min_pd(gmin, _mm256_andnot_pd(sign, load3(g.add(3 * k))));
+    }
+    let mut wx = [0.0; 4];
+    _mm256_storeu_pd(wx.as_mut_ptr(), vmin);
+    certify_rows(acc, vmax, gsum, [0, 1, 2].map(|r| _mm256_mul_pd(_mm256_set1_pd(wx[r]), gmin)), n2)
 }
 
 /// `particle_increments::<Fast, false>` of particle `i`: lanes S·v and S·a.

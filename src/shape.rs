@@ -117,7 +117,8 @@ fn axis_weights(
     let first = if ql - (lo as f64) < EDGE { lo - 1 } else { lo }.max(0);
     let last = if qh - ((hi - 1) as f64) > 1.0 - EDGE { hi + 1 } else { hi }.min(n_cells as isize);
     let mut k = 0;
-    for i in first..=last {
+    // An exclusive range: `first..=last` iterates with an extra exhaustion flag per step.
+    for i in first..last + 1 {
         if k == 3 {
             break;
         }
@@ -202,16 +203,23 @@ pub fn weights_into_3d(
     for c in 0..3 {
         k[c] = axis_weights(kind, x[c], grid.origin[c], grid.h[c], reach[c], lp[c], grid.n[c], &mut w[c], &mut idx[c]);
     }
+    // Node indices ix + (nx+1)·iy + (nx+1)(ny+1)·iz (`Grid3::node_index`), the row part
+    // once per (y, z) row.
+    let (sy_stride, sz_stride) = (grid.n[0] + 1, (grid.n[0] + 1) * (grid.n[1] + 1));
+    let (kx, ky, kz) = (k[0].min(3), k[1].min(3), k[2].min(3));
     let mut n = 0;
-    for cz in 0..k[2] {
+    for cz in 0..kz {
         let (sz, dz) = w[2][cz];
-        for b in 0..k[1] {
+        let zbase = idx[2][cz] * sz_stride;
+        for b in 0..ky {
             let (sy, dy) = w[1][b];
-            for a in 0..k[0] {
+            let base = zbase + idx[1][b] * sy_stride;
+            for a in 0..kx {
                 let (sx, dx) = w[0][a];
-                node[n] = grid.node_index(idx[0][a], idx[1][b], idx[2][cz]) as u32;
-                s[n] = (sx * sy) * sz;
-                g[n] = Vector3::new((dx * sy) * sz, (sx * dy) * sz, (sx * sy) * dz);
+                let sxy = sx * sy;
+                node[n] = (base + idx[0][a]) as u32;
+                s[n] = sxy * sz;
+                g[n] = Vector3::new((dx * sy) * sz, (sx * dy) * sz, sxy * dz);
                 n += 1;
             }
         }
