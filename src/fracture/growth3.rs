@@ -423,13 +423,17 @@ impl Simulation<D3> {
                             // material (with no image: the end started beyond the face, or
                             // the face is convex) is brought back along −n to the boundary
                             // (module doc, item 5).
-                            if let (Some((n, _)), false) = (face, at_edge) {
+                            if let Some((n, _)) = face {
                                 let direct = volume(None);
-                                let inner = target - n * h;
-                                if direct(target) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME {
-                                    let back = trim_by(inner, target, &direct).0;
-                                    if (back - target).norm() > PULL_BACK_MIN * h {
-                                        target = back;
+                                // How far beyond the boundary (along n) the node starts.
+                                let beyond = |x: Vector3| {
+                                    let inner = x - n * h;
+                                    (direct(x) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME).then(|| (trim_by(inner, x, &direct).0 - x).norm())
+                                };
+                                let started_out = beyond(fr.x).is_some_and(|d| d > START_OUTSIDE * h);
+                                if let Some(d) = beyond(target) {
+                                    if !at_edge && (started_out || d > PULL_BACK_MIN * h) {
+                                        target = trim_by(target - n * h, target, &direct).0;
                                     }
                                 }
                             }
@@ -755,6 +759,11 @@ pub const LAG_INCREMENTS: f64 = 1.5;
 /// A free-face end is brought back onto the boundary (module doc, item 5, "back onto the
 /// boundary") only when that moves it by more than this many cells.
 pub const PULL_BACK_MIN: f64 = 0.1;
+
+/// A free-face end that starts more than this many cells beyond the boundary (direct
+/// relative volume, along the face's outward normal) is brought back onto it whatever its
+/// move (module doc, item 5, "back onto the boundary").
+pub const START_OUTSIDE: f64 = 0.02;
 
 /// Re-spacing (module doc, item 6) changes a target only by more than this many cells:
 /// below it the change is rounding (a front that keeps its spacing is left to the bit).
