@@ -142,6 +142,8 @@ struct Plan {
     front: Vec<([u32; 2], f64)>,
     /// For each new triangle, the moved front nodes it came from (for refusals).
     sources: Vec<Vec<u32>>,
+    /// For each new triangle, the index of the old front edge it was built on.
+    edges: Vec<usize>,
     splits: usize,
     merges: usize,
     dropped: usize,
@@ -289,6 +291,7 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>, drop:
     let pos = |vertices: &Vec<Vector3>, n: u32| if n < first_new { pts[n as usize] } else { vertices[(n - first_new) as usize] };
     let mut triangles = Vec::new();
     let mut sources = Vec::new();
+    let mut edges = Vec::new();
     let mut front = Vec::new();
     let mut splits = 0;
     let mut dropped = 0;
@@ -300,16 +303,19 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>, drop:
             (Some(na), None) => {
                 triangles.push([b, a, na]);
                 sources.push(vec![a]);
+                edges.push(k);
                 front.push(([na, b], l));
             }
             (None, Some(nb)) => {
                 triangles.push([b, a, nb]);
                 sources.push(vec![b]);
+                edges.push(k);
                 front.push(([a, nb], l));
             }
             (Some(na), Some(nb)) if merged_edge[k] || na == nb => {
                 triangles.push([b, a, na]);
                 sources.push(vec![a, b]);
+                edges.push(k);
             }
             (Some(na), Some(nb)) => {
                 let (xa, xb) = (pos(&vertices, na), pos(&vertices, nb));
@@ -327,11 +333,12 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>, drop:
                 for t in quad {
                     triangles.push(t);
                     sources.push(vec![a, b]);
+                    edges.push(k);
                 }
             }
         }
     }
-    Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, splits, merges, dropped }
+    Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, edges, splits, merges, dropped }
 }
 
 /// Smallest angle of a one-end triangle (b, a, a′) from a stopped node b below which the
@@ -437,6 +444,26 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) ->
     // New triangles among themselves.
     let mut new = BTreeSet::new();
     let mut flag = |i: usize| new.extend(plan.sources[i].iter().copied());
+    // Turned over (module doc, "turn-over"): a new triangle whose normal points against
+    // that of the old triangle holding its front edge (dihedral angle above 90°).
+    let front_pairs: BTreeMap<[u32; 2], usize> = crack.front.iter().enumerate().map(|(k, &[a, b])| ([a.min(b), a.max(b)], k)).collect();
+    let mut behind: BTreeMap<usize, usize> = BTreeMap::new();
+    for (t, tri) in crack.surface.triangles.iter().enumerate() {
+        for e in 0..3 {
+            let (p, q) = (tri[e], tri[(e + 1) % 3]);
+            if let Some(&k) = front_pairs.get(&[p.min(q), p.max(q)]) {
+                behind.entry(k).or_insert(t);
+            }
+        }
+    }
+    for (i, nt) in new_tris.iter().enumerate() {
+        if let Some(&t) = behind.get(&plan.edges[i]) {
+            let n_new = (nt[1] - nt[0]).cross(&(nt[2] - nt[0]));
+            if n_new.dot(&crack.surface.normal(t)) < 0.0 {
+                flag(i);
+            }
+        }
+    }
     for i in 0..plan.triangles.len() {
         for j in i + 1..plan.triangles.len() {
             if overlap(&new_boxes[i], &new_boxes[j])
