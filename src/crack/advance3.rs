@@ -76,6 +76,26 @@
 //!   25°; a fan's triangles fall below 15° from the third or fourth on. Not applied to a
 //!   moving node all of whose front edges would go (it would be left with no triangle).
 //!
+//! * **turn-over** (not in the paper; issue 17, case `tube_crack`): a new triangle whose
+//!   normal points against that of the old triangle holding the front edge it is built on
+//!   (n_new · n_old < 0: a dihedral angle above 90°, the new strip folded back over the
+//!   surface behind it) is a fold, and its moved nodes are refused as `folded` (retried at
+//!   their next check). No kink of either criterion comes near it (the maximum hoop stress
+//!   kink is at most 70.5°), so it only catches a node whose move runs along or back
+//!   across its front edge — on a jagged front, an edge lying along the direction of
+//!   growth (a riser of the staircase) whose trailing end moves past the leading one.
+//!   Measured on `tube_crack` (branch tube5, before this rule; crack surface at step 612):
+//!   13 of 12,210 triangles faced the wrong way (n_z < 0 where the grown surface has
+//!   n_z ≈ +1), in two groups: 6 at 75–78° round the tube on the +x branch (z ≈ 4.85,
+//!   r = 41.4–42.2), by which 4 front nodes with K_eq = 1300–7000 (K_Ic = 632) had been
+//!   refused at a crack and stayed to the end (the check `runs_round` read 78.1°), and 7 at
+//!   163–171° on the −x branch (z ≈ −3.4 … −4.3), e.g. triangle (6395, 6393, 6393′) of a
+//!   front edge running 1.2° round the tube (a riser) whose trailing end 6393 moved past
+//!   6395: a particle 2.1–2.6 mm below took side +1 from that upside-down triangle and −1
+//!   from a correct one made 0.6 mm away at the next check, and the crossing test stopped
+//!   the run (step 615). The exact crossing test does not see it: the folded triangle
+//!   lies beside the old ones, not through them.
+//!
 //! * **re-spacing** (not in the paper's Fig. 3; issue 17, case `tube_crack`;
 //!   [`respace_moves`], applied by the growth driver to the targets before this advance):
 //!   along every run of at least three front nodes, consecutive on the front, that all
