@@ -591,6 +591,27 @@ mod tests {
         assert_eq!(c.front.len(), 2);
     }
 
+    /// Turn-over (module doc): a front end moved back behind its front edge and past its
+    /// neighbour along it (lifted off the plane, so that its triangle meets no old one)
+    /// would make a triangle facing against the surface behind it: refused as a fold.
+    #[test]
+    fn turned_over_triangle_is_a_fold() {
+        let (mut c, mut refs) = strip(2);
+        let [a, b] = c.front[0];
+        let (xa, xb) = (c.surface.vertices[a as usize], c.surface.vertices[b as usize]);
+        // Behind the front line x = 1, beyond b along the edge a → b, 0.02 above the plane.
+        let to = xb + (xb - xa) * 0.5 + Vector3::new(-0.1, 0.0, 0.02);
+        let moves = BTreeMap::from([(a, to)]);
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert_eq!((r.folded.clone(), r.refused.clone(), r.new_triangles), (vec![a], vec![], 0));
+        check_valid(&c);
+        // The same move ahead of the front line makes its triangle.
+        let (mut c, mut refs) = strip(2);
+        let moves = BTreeMap::from([(a, xb + (xb - xa) * 0.5 + Vector3::new(0.1, 0.0, 0.02))]);
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert_eq!((r.folded.len(), r.new_triangles), (0, 1));
+    }
+
     /// A segment stretched past twice its reference length is split (five triangles, two
     /// front edges); one shrunk below a quarter is merged into a point (one triangle).
     #[test]
