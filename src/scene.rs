@@ -384,6 +384,19 @@ pub struct GrowthSpec {
     /// once, as the papers (001 §2.3.2).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub release: Option<ReleaseSpec>,
+    /// Cohesive new segments (2D; [`crate::fracture::cohesive`]): a triangular
+    /// traction–separation law of area G_c = K_Ic²/E' and peak `strength`, and the zone's
+    /// growth rule. Omitted: free faces and the material's criterion, as the papers.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cohesive: Option<CohesiveSpec>,
+}
+
+/// `cracks[].fracture.growth.cohesive = { strength = 3.5 }` (2D).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CohesiveSpec {
+    /// Peak traction σ_c (stress units; required).
+    pub strength: f64,
 }
 
 /// `cracks[].fracture.growth.release = { length = 4.0, damping = 1.0 }` (2D).
@@ -428,6 +441,12 @@ impl GrowthSpec {
             }
             if !(r.damping >= 0.0 && r.damping <= 10.0) {
                 return Err(invalid(f("release.damping"), format!("must be in [0, 10] (units of c_d/h), got {}", r.damping)));
+            }
+        }
+        if let Some(c) = &self.cohesive {
+            positive(&f("cohesive.strength"), c.strength)?;
+            if self.release.is_some() {
+                return Err(invalid(f("cohesive"), "cannot be combined with `release` (choose one way for new segments to take up energy)"));
             }
         }
         if !any_toughness {
@@ -1114,6 +1133,15 @@ impl Scene {
                 ));
             }
         }
+        for (c, spec) in self.cracks.iter().enumerate() {
+            let Some(cs) = spec.fracture.as_ref().and_then(|f| f.growth.as_ref()).and_then(|g| g.cohesive) else { continue };
+            for (m, mat) in self.materials.iter().enumerate() {
+                let Some(t) = &mat.toughness else { continue };
+                if let Err(e) = sim.cohesive_law(m, crate::fracture::cohesive::CohesiveSettings { strength: cs.strength }, t.kic) {
+                    return Err(invalid(format!("cracks[{c}].fracture.growth.cohesive.strength"), format!("material {m} ({}): {e}", mat.name)));
+                }
+            }
+        }
         if let Err(e) = sim.fracture_parameters(&self.fracture_requests()) {
             return Err(invalid(format!("cracks[{}].fracture", e.crack()), format!("the crack's geometry does not allow J and K at its tip: {e}")));
         }
@@ -1130,7 +1158,7 @@ impl Scene {
             .filter_map(|(c, spec)| {
                 let g = spec.fracture.as_ref()?.growth.as_ref()?;
                 let release = g.release.map(|r| crate::fracture::release::ReleaseSettings { length: r.length, damping: r.damping });
-                let settings = GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed, speed_correction: g.speed_correction, speed_window: g.speed_window, release };
+                let settings = GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed, speed_correction: g.speed_correction, speed_window: g.speed_window, release, cohesive: g.cohesive.map(|c| crate::fracture::cohesive::CohesiveSettings { strength: c.strength }) };
                 Some((c, requests[c].clone()?, settings))
             })
             .collect();

@@ -969,7 +969,7 @@ impl Scene3 {
             .enumerate()
             .filter_map(|(c, spec)| {
                 let g = spec.fracture.as_ref()?.growth.as_ref()?;
-                let settings = crate::fracture::growth::GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed, speed_correction: g.speed_correction, speed_window: g.speed_window, release: None };
+                let settings = crate::fracture::growth::GrowthSettings { increment: g.increment, every: g.every, max_speed: g.max_speed, speed_correction: g.speed_correction, speed_window: g.speed_window, release: None, cohesive: None };
                 Some((c, requests[c].clone()?, settings))
             })
             .collect();
@@ -1011,6 +1011,9 @@ impl Scene3 {
                     gr.validate(&f("fracture.growth"), self.materials.iter().any(|m| m.toughness.is_some()))?;
                     if gr.release.is_some() {
                         return Err(invalid(f("fracture.growth.release"), "the gradual release of new segments is 2D only (a 3D front releases its triangles at once)"));
+                    }
+                    if gr.cohesive.is_some() {
+                        return Err(invalid(f("fracture.growth.cohesive"), "cohesive new segments are 2D only (a 3D front releases its triangles at once)"));
                     }
                 }
                 if let FrontNodesSpec::Box { min, max } = &fr.nodes {

@@ -41,6 +41,9 @@ pub trait Dimension: Space {
     /// Hold the faces of new crack segments still in release on the forces of Task 3
     /// ([`crate::fracture::release`]; 2D only).
     fn hold_released(_sim: &mut Simulation<Self>) {}
+    /// Add the tractions of cohesive crack segments to Task 3's forces
+    /// ([`crate::fracture::cohesive`]; 2D only).
+    fn apply_cohesive(_sim: &mut Simulation<Self>) {}
     /// Crack propagation at the end of a step (only when the scene lets cracks grow).
     fn grow_cracks(sim: &mut Simulation<Self>) -> Result<(), CheckError>;
     /// Checked mode: no particle crossed a crack.

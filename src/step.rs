@@ -549,6 +549,10 @@ impl<S: Dimension> Simulation<S> {
         }
         self.scratch.force = sums;
         self.scratch.stress_columns = cols;
+        // Cohesive crack segments pull their faces together (2D growth with a cohesive law).
+        if self.growth.is_some() {
+            S::apply_cohesive(self);
+        }
         // The reactions, before the fixed directions' forces are removed.
         self.work.boundary_work += self.boundary_power() * self.options.dt;
         let nodes = &mut self.nodes;

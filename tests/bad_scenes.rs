@@ -341,6 +341,17 @@ fn crack_growth_settings_and_toughness() {
     assert_eq!(invalid_field(&with_toughness("release = { length = 1e9 }")), "cracks[0].fracture.growth.release.length");
     assert_eq!(invalid_field(&with_toughness("release = { damping = -1.0 }")), "cracks[0].fracture.growth.release.damping");
     expect(&with_toughness("release = { time = 1.0 }"), &["time"]);
+    // cohesive new segments: a positive strength, required, not with `release`, and not
+    // too strong for the cell (its rising part must end before half its final opening)
+    assert!(Scene::from_toml(&with_toughness("cohesive = { strength = 0.001 }"), "ok").unwrap().build().is_ok());
+    assert_eq!(invalid_field(&with_toughness("cohesive = { strength = 0.0 }")), "cracks[0].fracture.growth.cohesive.strength");
+    assert_eq!(invalid_field(&with_toughness("cohesive = { strength = nan }")), "cracks[0].fracture.growth.cohesive.strength");
+    expect(&with_toughness("cohesive = {}"), &["strength"]);
+    expect(&with_toughness("cohesive = { strength = 1.0, sigma = 2.0 }"), &["sigma"]);
+    assert_eq!(invalid_field(&with_toughness("cohesive = { strength = 0.001 }, release = {}")), "cracks[0].fracture.growth.cohesive");
+    let strong = with_toughness("cohesive = { strength = 1e6 }");
+    assert_eq!(invalid_field(&strong), "cracks[0].fracture.growth.cohesive.strength");
+    expect(&strong, &["too strong for the cell"]);
     let bad_kic = with_toughness("").replace("kic = 1.0", "kic = -2.0");
     assert_eq!(invalid_field(&bad_kic), "materials[0].toughness.kic");
     // a toughness without its criterion, or an unknown criterion, is a parse error naming it

@@ -145,7 +145,20 @@ fn growth_is_identical_after_shuffling_particles() {
 /// crack geometry alone, serially.
 #[test]
 fn released_growth_is_identical_after_shuffling_particles_and_on_one_thread() {
-    let scene = three_point_bend(4.0, 0.1, "max_hoop_stress", 0.17).set("cracks.0.fracture.growth.release", "{}").load().unwrap();
+    identical_after_shuffling_and_on_one_thread("cracks.0.fracture.growth.release", "{}");
+}
+
+/// The same with cohesive new segments (`growth.cohesive`, issue 20): the tractions are
+/// spread from the crack particles, in order, serially.
+#[test]
+fn cohesive_growth_is_identical_after_shuffling_particles_and_on_one_thread() {
+    identical_after_shuffling_and_on_one_thread("cracks.0.fracture.growth.cohesive", "{ strength = 20.0 }");
+}
+
+/// The off-centre PMMA beam at 4 mm with `key = value` grows to the same bits after
+/// shuffling its particles and on one thread against the default pool.
+fn identical_after_shuffling_and_on_one_thread(key: &str, value: &str) {
+    let scene = three_point_bend(4.0, 0.1, "max_hoop_stress", 0.17).set(key, value).load().unwrap();
     let (pa, ra) = shuffled_growth_is_identical(scene.clone());
     let mut one = scene.build().unwrap();
     rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| one.run_until(0.17, |_| {})).unwrap();

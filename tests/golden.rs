@@ -127,6 +127,7 @@ golden_case!(
     mode_ii_kink,
     dcb_growth,
     growth_strip,
+    growth_j,
     plates_k,
     mpm_vs_fea,
     fea_penny_3d,

@@ -255,6 +255,8 @@ fn bad_fracture_tables_and_unknown_detection_are_refused_in_3d() {
     // The gradual release of new segments is 2D only.
     let tough = fr("growth = { release = {} }").replacen("rho = 1.0", "rho = 1.0\ntoughness = { criterion = \"max_hoop_stress\", kic = 1.0 }", 1);
     expect_invalid(&tough, None, "cracks[0].fracture.growth.release", &["2D only"]);
+    let cohesive = tough.replace("release = {}", "cohesive = { strength = 1.0 }");
+    expect_invalid(&cohesive, None, "cracks[0].fracture.growth.cohesive", &["2D only"]);
 }
 
 #[test]

@@ -313,6 +313,9 @@ impl crate::simulation::Dimension for crate::dim::D2 {
     fn hold_released(sim: &mut Simulation) {
         sim.hold_released()
     }
+    fn apply_cohesive(sim: &mut Simulation) {
+        sim.apply_cohesive()
+    }
     fn grow_cracks(sim: &mut Simulation) -> Result<(), CheckError> {
         sim.grow_cracks().map_err(|error| CheckError::Growth { step: sim.step_count, error })
     }

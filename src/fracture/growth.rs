@@ -118,6 +118,9 @@ pub struct GrowthSettings {
     pub speed_window: usize,
     /// Gradual release of new segments ([`crate::fracture::release`]); None: at once.
     pub release: Option<crate::fracture::release::ReleaseSettings>,
+    /// Cohesive new segments and the zone's growth rule ([`crate::fracture::cohesive`]);
+    /// None: free faces and the material's criterion, as the papers.
+    pub cohesive: Option<crate::fracture::cohesive::CohesiveSettings>,
 }
 
 impl GrowthSettings {
@@ -320,6 +323,8 @@ pub struct Growth {
     pub records: Vec<GrowthRecord>,
     /// New segments whose faces are still held ([`crate::fracture::release`]).
     pub releases: Vec<crate::fracture::release::Release>,
+    /// The cohesive segments of each crack that has them ([`crate::fracture::cohesive`]).
+    pub cohesive: Vec<crate::fracture::cohesive::CohesiveZone>,
 }
 
 impl Growth {
@@ -333,8 +338,13 @@ impl Growth {
                 let tips = request.tips.iter().map(|&e| TipGrowth::new(e)).collect();
                 CrackGrowth { crack: c, request, settings, tips, initial_length, split: None }
             })
+            .collect::<Vec<_>>();
+        let cohesive = cracks
+            .iter()
+            .filter(|g| g.settings.cohesive.is_some())
+            .map(|g| crate::fracture::cohesive::CohesiveZone::new(g.crack, sim.cracks[g.crack].points.len()))
             .collect();
-        Growth { toughness, cracks, records: Vec::new(), releases: Vec::new() }
+        Growth { toughness, cracks, records: Vec::new(), releases: Vec::new(), cohesive }
     }
 
     /// Does crack `c` grow?
@@ -368,6 +378,8 @@ pub enum GrowthError {
     NoMaterial { crack: usize, end: TipEnd, x: f64, y: f64 },
     #[error("crack {crack}: Rayleigh speed of the material at the {end:?} tip: {message}")]
     Rayleigh { crack: usize, end: TipEnd, message: String },
+    #[error("crack {crack}: cohesive law of the material at the {end:?} tip: {message}")]
+    Cohesive { crack: usize, end: TipEnd, message: String },
     /// 3D: a front node's evaluation failed ([`crate::fracture::growth3`]).
     #[error("crack {crack}, front node {node} at ({x}, {y}, {z}): {message}")]
     Front { crack: usize, node: u32, x: f64, y: f64, z: f64, message: String },
@@ -415,7 +427,17 @@ impl Simulation {
                 let dir = toughness.and_then(|t| t.direction(fr.k1, fr.k2, kappa));
                 let (theta, k_eq) = dir.unwrap_or((f64::NAN, f64::NAN));
                 let mut grew = false;
-                let meets = matches!((toughness, dir), (Some(t), Some((_, keq))) if keq >= t.kic);
+                let meets = match cg.settings.cohesive {
+                    // The zone's own rule (cohesive module doc): seed a first cohesive
+                    // segment once the tip is loaded (K_eq > 0, so that θ_c is the load's);
+                    // then advance when the crack particle behind the tip has reached the
+                    // law's peak.
+                    Some(_) => {
+                        let zone = growth.cohesive.iter().find(|z| z.crack == c).expect("cohesive zone");
+                        toughness.is_some() && dir.is_some() && zone.tip_ready(end == TipEnd::Start).unwrap_or(k_eq > 0.0)
+                    }
+                    None => matches!((toughness, dir), (Some(t), Some((_, keq))) if keq >= t.kic),
+                };
                 if cg.tips[k].status == TipStatus::Growing && meets {
                     let da = cg.settings.increment * h;
                     let c_r = rayleigh_speed_for(&self.materials[mat]).map_err(|e| GrowthError::Rayleigh { crack: c, end, message: e.to_string() })?;
@@ -429,6 +451,11 @@ impl Simulation {
                         if added > 0.0 {
                             if end == TipEnd::Start {
                                 growth.releases.iter_mut().filter(|r| r.crack == c).for_each(|r| r.segment += 1);
+                            }
+                            if let Some(cs) = cg.settings.cohesive {
+                                let law = self.cohesive_law(mat, cs, toughness.expect("toughness").kic).map_err(|message| GrowthError::Cohesive { crack: c, end, message })?;
+                                let thickness = self.thickness_near(fr.tip);
+                                growth.cohesive.iter_mut().filter(|z| z.crack == c).for_each(|z| z.added(end == TipEnd::Start, law, thickness));
                             }
                             if let Some(rs) = cg.settings.release {
                                 let segment = if end == TipEnd::Start { 0 } else { self.cracks[c].points.len() - 2 };
@@ -560,12 +587,28 @@ impl Simulation {
         }
     }
 
+    /// The particle nearest to `x` (ties: lowest id), None without particles.
+    fn nearest_particle(&self, x: Vector) -> Option<usize> {
+        let p = &self.particles;
+        (0..p.len()).min_by(|&a, &b| (p.x[a] - x).norm_squared().total_cmp(&(p.x[b] - x).norm_squared()).then(p.id[a].cmp(&p.id[b])))
+    }
+
+    /// Thickness of the body of the particle nearest `x` (ties: lowest id).
+    pub fn thickness_near(&self, x: Vector) -> f64 {
+        self.nearest_particle(x).map_or(1.0, |i| self.thickness[self.particles.body[i] as usize])
+    }
+
+    /// The cohesive law of material `mat` for `settings` with toughness `kic`:
+    /// G_c = K_Ic²/E', rising stiffness ρ c_d²/h ([`crate::fracture::cohesive`]).
+    pub fn cohesive_law(&self, mat: usize, settings: crate::fracture::cohesive::CohesiveSettings, kic: f64) -> Result<crate::fracture::cohesive::CohesiveLaw, String> {
+        let m = &self.materials[mat];
+        let c_d = crate::material::Constitutive::wave_speed(m);
+        crate::fracture::cohesive::CohesiveLaw::new(settings.strength, kic * kic / m.e_prime(), m.rho * c_d * c_d, self.grid.min_h())
+    }
+
     /// Index of the material of the particle nearest to `x` (ties: lowest id).
     pub fn material_index_near(&self, x: Vector) -> Option<usize> {
-        let p = &self.particles;
-        (0..p.len())
-            .min_by(|&a, &b| (p.x[a] - x).norm_squared().total_cmp(&(p.x[b] - x).norm_squared()).then(p.id[a].cmp(&p.id[b])))
-            .map(|i| p.material[i] as usize)
+        self.nearest_particle(x).map(|i| self.particles.material[i] as usize)
     }
 }
 
@@ -607,7 +650,7 @@ mod tests {
 
     #[test]
     fn k_speed_is_the_estimate_only_with_speed_correction() {
-        let mut g = GrowthSettings { increment: 0.5, every: 1, max_speed: None, speed_correction: false, speed_window: SPEED_WINDOW, release: None };
+        let mut g = GrowthSettings { increment: 0.5, every: 1, max_speed: None, speed_correction: false, speed_window: SPEED_WINDOW, release: None, cohesive: None };
         assert_eq!(g.k_speed(123.0), 0.0);
         g.speed_correction = true;
         assert_eq!(g.k_speed(123.0), 123.0);
