@@ -96,6 +96,25 @@
 //!   the run (step 615). The exact crossing test does not see it: the folded triangle
 //!   lies beside the old ones, not through them.
 //!
+//!   **Widened to the criterion's reach** (branch tube6): when every material of the
+//!   scene with a toughness grows by maximum hoop stress, the test is a dihedral above
+//!   70.529° + 10° = 80.5° ([`fold_cos`]; 90° otherwise, and in [`advance_front`]).
+//!   70.529° is the largest kink maximum hoop stress asks for (K_I = 0; 001 eq. 20). A
+//!   one-end triangle (b, a, a′) whose move is kinked by θ from the old plane, with the
+//!   front edge at ψ to the node's front tangent (the move normal to the tangent), has a
+//!   dihedral atan(tan θ / cos ψ) with the old plane: 80.5° at θ = 70.5° needs ψ = 62°,
+//!   a front turning by about 124° at that node, which a front that is one does not do;
+//!   the four triangles of a quadrilateral, with the centre halfway, tilt less. So no
+//!   move the criterion can ask for is refused, while a triangle standing nearly at right
+//!   angles to the surface behind it — which the n·n_old < 0 test missed — is. Measured
+//!   on `tube_crack` (branch tube5, with the 90° test): the 2 triangles left upside down,
+//!   at 75–76° round the tube (made at step ≈ 329), stood nearly vertical, n = (−0.99,
+//!   0.04, −0.07) (in the tube's wall, at about 90° to the surface behind them), and the
+//!   piece of the +x branch's front beside them was refused at a crack at step 339 with
+//!   K_eq = 3600–5400 (K_Ic = 632) and stuck there to the end (runs_round 77.0°). The
+//!   minimum strain-energy density criterion kinks by up to acos((κ − 1)/6) (82.3° at
+//!   ν = 0.3 in plane strain, 90° as ν → ½): no margin is left, and its test stays at 90°.
+//!
 //! * **re-spacing** (not in the paper's Fig. 3; issue 17, case `tube_crack`;
 //!   [`respace_moves`], applied by the growth driver to the targets before this advance):
 //!   along every run of at least three front nodes, consecutive on the front, that all
@@ -130,6 +149,25 @@ use std::collections::{BTreeMap, BTreeSet};
 pub const SPLIT_RATIO: f64 = 2.0;
 /// Merge a front edge whose new length is below this many reference lengths.
 pub const MERGE_RATIO: f64 = 0.25;
+
+/// The largest kink the maximum hoop stress criterion can ask for (degrees), at K_I = 0:
+/// θ_c = −2 atan(1/√2) = −70.529° (001 eq. 20; [`crate::fracture::criteria::hoop_stress_angle`]).
+pub const HOOP_MAX_KINK_DEG: f64 = 70.528779;
+/// Margin (degrees) over a criterion's largest kink in the fold test (module doc,
+/// "turn-over").
+pub const FOLD_MARGIN_DEG: f64 = 10.0;
+
+/// The fold test's cosine (module doc, "turn-over") for a crack whose nodes all grow by
+/// the maximum hoop stress criterion (`hoop_only`): cos(70.529° + 10°); otherwise 0 (a
+/// dihedral above 90° only: the minimum strain-energy density criterion kinks by up to
+/// acos((κ − 1)/6), 79.7–82.3° at ν = 0.3 and up to 90° as ν → ½, leaving no margin).
+pub fn fold_cos(hoop_only: bool) -> f64 {
+    if hoop_only {
+        (HOOP_MAX_KINK_DEG + FOLD_MARGIN_DEG).to_radians().cos()
+    } else {
+        0.0
+    }
+}
 
 /// What one advance did.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -173,14 +211,17 @@ struct Plan {
 /// `moves` stay). `front_ref[k]` is the reference length of `crack.front[k]`; both are
 /// replaced by the new front. `others` are the other cracks' surfaces (no new triangle may
 /// meet them). Returns what was done; the crack's boundary flags are recomputed.
+/// The fold test is the turn-over at 90° (`fold_cos` 0).
 pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface]) -> AdvanceReport {
-    advance_front_stopped(crack, front_ref, moves, others, &BTreeSet::new())
+    advance_front_stopped(crack, front_ref, moves, others, &BTreeSet::new(), 0.0)
 }
 
 /// [`advance_front`] with the front nodes stopped for good (`stopped`, which do not move):
 /// a front edge from a stopped node whose other end moves leaves the front instead of
-/// making a sliver triangle (module doc, "sliver").
-pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface], stopped: &BTreeSet<u32>) -> AdvanceReport {
+/// making a sliver triangle (module doc, "sliver"); a new triangle whose unit normal
+/// makes a cosine below `fold_cos` with that of the old triangle behind its front edge is
+/// a fold (module doc, "turn-over"; [`fold_cos`]).
+pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface], stopped: &BTreeSet<u32>, fold_cos: f64) -> AdvanceReport {
     assert_eq!(front_ref.len(), crack.front.len(), "one reference length per front edge");
     let mut moves = moves.clone();
     let mut refused = Vec::new();
@@ -188,7 +229,7 @@ pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves
     let plan = loop {
         let drop = slivers(crack, &moves, stopped);
         let plan = plan(crack, front_ref, &moves, &drop);
-        let (existing, new) = crossing_sources(crack, &plan, others);
+        let (existing, new) = crossing_sources(crack, &plan, others, fold_cos);
         if existing.is_empty() && new.is_empty() {
             break plan;
         }
@@ -429,7 +470,7 @@ fn across_moves(e: Vector3, m: Vector3) -> f64 {
 /// The moved front nodes whose new triangles meet an existing triangle (of this crack or
 /// `others`), and those whose new triangles meet another new triangle, other than at
 /// shared corners: (existing, new).
-fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) -> (BTreeSet<u32>, BTreeSet<u32>) {
+fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface], fold_cos: f64) -> (BTreeSet<u32>, BTreeSet<u32>) {
     let pts = &crack.surface.vertices;
     let first_new = pts.len() as u32;
     let pos = |n: u32| if n < first_new { pts[n as usize] } else { plan.vertices[(n - first_new) as usize] };
@@ -464,8 +505,8 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) ->
     // New triangles among themselves.
     let mut new = BTreeSet::new();
     let mut flag = |i: usize| new.extend(plan.sources[i].iter().copied());
-    // Turned over (module doc, "turn-over"): a new triangle whose normal points against
-    // that of the old triangle holding its front edge (dihedral angle above 90°).
+    // Turned over (module doc, "turn-over"): a new triangle whose normal makes a dihedral
+    // angle above acos(fold_cos) with that of the old triangle holding its front edge.
     let front_pairs: BTreeMap<[u32; 2], usize> = crack.front.iter().enumerate().map(|(k, &[a, b])| ([a.min(b), a.max(b)], k)).collect();
     let mut behind: BTreeMap<usize, usize> = BTreeMap::new();
     for (t, tri) in crack.surface.triangles.iter().enumerate() {
@@ -479,7 +520,8 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) ->
     for (i, nt) in new_tris.iter().enumerate() {
         if let Some(&t) = behind.get(&plan.edges[i]) {
             let n_new = (nt[1] - nt[0]).cross(&(nt[2] - nt[0]));
-            if n_new.dot(&crack.surface.normal(t)) < 0.0 {
+            let n_old = crack.surface.normal(t);
+            if n_new.dot(&n_old) < fold_cos * n_new.norm() * n_old.norm() {
                 flag(i);
             }
         }

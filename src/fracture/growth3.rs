@@ -179,11 +179,11 @@
 //! exact sums in J and the relative volume, so a run is bit-identical for any particle
 //! order and thread count (tests/three_d_crack_reproducibility.rs).
 
-use crate::crack::advance3::{advance_front_stopped, prune_front, respace_moves};
+use crate::crack::advance3::{advance_front_stopped, fold_cos, prune_front, respace_moves};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
-use crate::fracture::growth::{speed_allows, speed_estimate, GrowthError, GrowthSettings, Toughness, BOUNDARY_VOLUME, NEAR_BOUNDARY_VOLUME};
+use crate::fracture::growth::{speed_allows, Criterion, speed_estimate, GrowthError, GrowthSettings, Toughness, BOUNDARY_VOLUME, NEAR_BOUNDARY_VOLUME};
 use crate::fracture::speed::{rayleigh_speed_for, speed_factors_for};
 use crate::simulation::Simulation;
 use std::collections::{BTreeMap, BTreeSet};
@@ -368,6 +368,7 @@ impl Simulation<D3> {
     fn grow_fronts_with(&mut self, growth: &mut Growth3) -> Result<(), GrowthError> {
         let h = self.grid.min_h();
         let mut boundary: Option<MaterialBoundary3> = None;
+        let growth_hoop_only = growth.toughness.iter().flatten().all(|t| matches!(t.criterion, Criterion::MaxHoopStress));
         for fg in growth.cracks.iter_mut() {
             if !self.step_count.is_multiple_of(fg.settings.every) {
                 continue;
@@ -504,7 +505,9 @@ impl Simulation<D3> {
                 let mut crack = self.cracks[c].clone();
                 // Stopped for good and not moving (sliver rule of advance_front_stopped).
                 let stopped: BTreeSet<u32> = rows.iter().filter(|r| r.status != NodeStatus::Growing && !moves.contains_key(&r.vertex)).map(|r| r.vertex).collect();
-                let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped);
+                // Fold test (advance3 module doc, "turn-over"): 80.5° when every material
+                // with a toughness grows by maximum hoop stress, 90° otherwise.
+                let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped, fold_cos(growth_hoop_only));
                 fg.pruned += report.dropped;
                 self.cracks[c] = crack;
                 fg.splits += report.splits;
