@@ -114,6 +114,12 @@
 //!   K_eq = 3600–5400 (K_Ic = 632) and stuck there to the end (runs_round 77.0°). The
 //!   minimum strain-energy density criterion kinks by up to acos((κ − 1)/6) (82.3° at
 //!   ν = 0.3 in plane strain, 90° as ν → ½): no margin is left, and its test stays at 90°.
+//!   Measured with it (branch tube6, `tube_crack` as a case and a `cramp run` to step 346):
+//!   the piece is no longer refused at a crack but folded at every retry — two nodes at
+//!   74.5° and 75.8° (K_eq 3850–7000) at the bottom of a slot in the front 6–8° long,
+//!   whose front edges lie along the growth direction, so their tangents and headings are
+//!   skewed 27–44° and their one-end triangles stand nearly vertical; runs_round 74.3°. The
+//!   test changed how the piece is held, not that it is (a notch rule is left to do).
 //!
 //! * **re-spacing** (not in the paper's Fig. 3; issue 17, case `tube_crack`;
 //!   [`respace_moves`], applied by the growth driver to the targets before this advance):
