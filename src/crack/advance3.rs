@@ -76,6 +76,51 @@
 //!   25°; a fan's triangles fall below 15° from the third or fourth on. Not applied to a
 //!   moving node all of whose front edges would go (it would be left with no triangle).
 //!
+//! * **turn-over** (not in the paper; issue 17, case `tube_crack`): a new triangle whose
+//!   normal points against that of the old triangle holding the front edge it is built on
+//!   (n_new · n_old < 0: a dihedral angle above 90°, the new strip folded back over the
+//!   surface behind it) is a fold, and its moved nodes are refused as `folded` (retried at
+//!   their next check). No kink of either criterion comes near it (the maximum hoop stress
+//!   kink is at most 70.5°), so it only catches a node whose move runs along or back
+//!   across its front edge — on a jagged front, an edge lying along the direction of
+//!   growth (a riser of the staircase) whose trailing end moves past the leading one.
+//!   Measured on `tube_crack` (branch tube5, before this rule; crack surface at step 612):
+//!   13 of 12,210 triangles faced the wrong way (n_z < 0 where the grown surface has
+//!   n_z ≈ +1), in two groups: 6 at 75–78° round the tube on the +x branch (z ≈ 4.85,
+//!   r = 41.4–42.2), by which 4 front nodes with K_eq = 1300–7000 (K_Ic = 632) had been
+//!   refused at a crack and stayed to the end (the check `runs_round` read 78.1°), and 7 at
+//!   163–171° on the −x branch (z ≈ −3.4 … −4.3), e.g. triangle (6395, 6393, 6393′) of a
+//!   front edge running 1.2° round the tube (a riser) whose trailing end 6393 moved past
+//!   6395: a particle 2.1–2.6 mm below took side +1 from that upside-down triangle and −1
+//!   from a correct one made 0.6 mm away at the next check, and the crossing test stopped
+//!   the run (step 615). The exact crossing test does not see it: the folded triangle
+//!   lies beside the old ones, not through them.
+//!
+//!   **Widened to the criterion's reach** (branch tube6): when every material of the
+//!   scene with a toughness grows by maximum hoop stress, the test is a dihedral above
+//!   70.529° + 10° = 80.5° ([`fold_cos`]; 90° otherwise, and in [`advance_front`]).
+//!   70.529° is the largest kink maximum hoop stress asks for (K_I = 0; 001 eq. 20). A
+//!   one-end triangle (b, a, a′) whose move is kinked by θ from the old plane, with the
+//!   front edge at ψ to the node's front tangent (the move normal to the tangent), has a
+//!   dihedral atan(tan θ / cos ψ) with the old plane: 80.5° at θ = 70.5° needs ψ = 62°,
+//!   a front turning by about 124° at that node, which a front that is one does not do;
+//!   the four triangles of a quadrilateral, with the centre halfway, tilt less. So no
+//!   move the criterion can ask for is refused, while a triangle standing nearly at right
+//!   angles to the surface behind it — which the n·n_old < 0 test missed — is. Measured
+//!   on `tube_crack` (branch tube5, with the 90° test): the 2 triangles left upside down,
+//!   at 75–76° round the tube (made at step ≈ 329), stood nearly vertical, n = (−0.99,
+//!   0.04, −0.07) (in the tube's wall, at about 90° to the surface behind them), and the
+//!   piece of the +x branch's front beside them was refused at a crack at step 339 with
+//!   K_eq = 3600–5400 (K_Ic = 632) and stuck there to the end (runs_round 77.0°). The
+//!   minimum strain-energy density criterion kinks by up to acos((κ − 1)/6) (82.3° at
+//!   ν = 0.3 in plane strain, 90° as ν → ½): no margin is left, and its test stays at 90°.
+//!   Measured with it (branch tube6, `tube_crack` as a case and a `cramp run` to step 346):
+//!   the piece is no longer refused at a crack but folded at every retry — two nodes at
+//!   74.5° and 75.8° (K_eq 3850–7000) at the bottom of a slot in the front 6–8° long,
+//!   whose front edges lie along the growth direction, so their tangents and headings are
+//!   skewed 27–44° and their one-end triangles stand nearly vertical; runs_round 74.3°. The
+//!   test changed how the piece is held, not that it is (a notch rule is left to do).
+//!
 //! * **re-spacing** (not in the paper's Fig. 3; issue 17, case `tube_crack`;
 //!   [`respace_moves`], applied by the growth driver to the targets before this advance):
 //!   along every run of at least three front nodes, consecutive on the front, that all
@@ -111,6 +156,25 @@ pub const SPLIT_RATIO: f64 = 2.0;
 /// Merge a front edge whose new length is below this many reference lengths.
 pub const MERGE_RATIO: f64 = 0.25;
 
+/// The largest kink the maximum hoop stress criterion can ask for (degrees), at K_I = 0:
+/// θ_c = −2 atan(1/√2) = −70.529° (001 eq. 20; [`crate::fracture::criteria::hoop_stress_angle`]).
+pub const HOOP_MAX_KINK_DEG: f64 = 70.528779;
+/// Margin (degrees) over a criterion's largest kink in the fold test (module doc,
+/// "turn-over").
+pub const FOLD_MARGIN_DEG: f64 = 10.0;
+
+/// The fold test's cosine (module doc, "turn-over") for a crack whose nodes all grow by
+/// the maximum hoop stress criterion (`hoop_only`): cos(70.529° + 10°); otherwise 0 (a
+/// dihedral above 90° only: the minimum strain-energy density criterion kinks by up to
+/// acos((κ − 1)/6), 79.7–82.3° at ν = 0.3 and up to 90° as ν → ½, leaving no margin).
+pub fn fold_cos(hoop_only: bool) -> f64 {
+    if hoop_only {
+        (HOOP_MAX_KINK_DEG + FOLD_MARGIN_DEG).to_radians().cos()
+    } else {
+        0.0
+    }
+}
+
 /// What one advance did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AdvanceReport {
@@ -142,6 +206,8 @@ struct Plan {
     front: Vec<([u32; 2], f64)>,
     /// For each new triangle, the moved front nodes it came from (for refusals).
     sources: Vec<Vec<u32>>,
+    /// For each new triangle, the index of the old front edge it was built on.
+    edges: Vec<usize>,
     splits: usize,
     merges: usize,
     dropped: usize,
@@ -151,14 +217,17 @@ struct Plan {
 /// `moves` stay). `front_ref[k]` is the reference length of `crack.front[k]`; both are
 /// replaced by the new front. `others` are the other cracks' surfaces (no new triangle may
 /// meet them). Returns what was done; the crack's boundary flags are recomputed.
+/// The fold test is the turn-over at 90° (`fold_cos` 0).
 pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface]) -> AdvanceReport {
-    advance_front_stopped(crack, front_ref, moves, others, &BTreeSet::new())
+    advance_front_stopped(crack, front_ref, moves, others, &BTreeSet::new(), 0.0)
 }
 
 /// [`advance_front`] with the front nodes stopped for good (`stopped`, which do not move):
 /// a front edge from a stopped node whose other end moves leaves the front instead of
-/// making a sliver triangle (module doc, "sliver").
-pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface], stopped: &BTreeSet<u32>) -> AdvanceReport {
+/// making a sliver triangle (module doc, "sliver"); a new triangle whose unit normal
+/// makes a cosine below `fold_cos` with that of the old triangle behind its front edge is
+/// a fold (module doc, "turn-over"; [`fold_cos`]).
+pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface], stopped: &BTreeSet<u32>, fold_cos: f64) -> AdvanceReport {
     assert_eq!(front_ref.len(), crack.front.len(), "one reference length per front edge");
     let mut moves = moves.clone();
     let mut refused = Vec::new();
@@ -166,7 +235,7 @@ pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves
     let plan = loop {
         let drop = slivers(crack, &moves, stopped);
         let plan = plan(crack, front_ref, &moves, &drop);
-        let (existing, new) = crossing_sources(crack, &plan, others);
+        let (existing, new) = crossing_sources(crack, &plan, others, fold_cos);
         if existing.is_empty() && new.is_empty() {
             break plan;
         }
@@ -289,6 +358,7 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>, drop:
     let pos = |vertices: &Vec<Vector3>, n: u32| if n < first_new { pts[n as usize] } else { vertices[(n - first_new) as usize] };
     let mut triangles = Vec::new();
     let mut sources = Vec::new();
+    let mut edges = Vec::new();
     let mut front = Vec::new();
     let mut splits = 0;
     let mut dropped = 0;
@@ -300,16 +370,19 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>, drop:
             (Some(na), None) => {
                 triangles.push([b, a, na]);
                 sources.push(vec![a]);
+                edges.push(k);
                 front.push(([na, b], l));
             }
             (None, Some(nb)) => {
                 triangles.push([b, a, nb]);
                 sources.push(vec![b]);
+                edges.push(k);
                 front.push(([a, nb], l));
             }
             (Some(na), Some(nb)) if merged_edge[k] || na == nb => {
                 triangles.push([b, a, na]);
                 sources.push(vec![a, b]);
+                edges.push(k);
             }
             (Some(na), Some(nb)) => {
                 let (xa, xb) = (pos(&vertices, na), pos(&vertices, nb));
@@ -327,11 +400,12 @@ fn plan(crack: &Crack3, front_ref: &[f64], moves: &BTreeMap<u32, Vector3>, drop:
                 for t in quad {
                     triangles.push(t);
                     sources.push(vec![a, b]);
+                    edges.push(k);
                 }
             }
         }
     }
-    Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, splits, merges, dropped }
+    Plan { vertices, moved: moved.into_iter().collect(), triangles, front, sources, edges, splits, merges, dropped }
 }
 
 /// Smallest angle of a one-end triangle (b, a, a′) from a stopped node b below which the
@@ -402,7 +476,7 @@ fn across_moves(e: Vector3, m: Vector3) -> f64 {
 /// The moved front nodes whose new triangles meet an existing triangle (of this crack or
 /// `others`), and those whose new triangles meet another new triangle, other than at
 /// shared corners: (existing, new).
-fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) -> (BTreeSet<u32>, BTreeSet<u32>) {
+fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface], fold_cos: f64) -> (BTreeSet<u32>, BTreeSet<u32>) {
     let pts = &crack.surface.vertices;
     let first_new = pts.len() as u32;
     let pos = |n: u32| if n < first_new { pts[n as usize] } else { plan.vertices[(n - first_new) as usize] };
@@ -437,6 +511,27 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface]) ->
     // New triangles among themselves.
     let mut new = BTreeSet::new();
     let mut flag = |i: usize| new.extend(plan.sources[i].iter().copied());
+    // Turned over (module doc, "turn-over"): a new triangle whose normal makes a dihedral
+    // angle above acos(fold_cos) with that of the old triangle holding its front edge.
+    let front_pairs: BTreeMap<[u32; 2], usize> = crack.front.iter().enumerate().map(|(k, &[a, b])| ([a.min(b), a.max(b)], k)).collect();
+    let mut behind: BTreeMap<usize, usize> = BTreeMap::new();
+    for (t, tri) in crack.surface.triangles.iter().enumerate() {
+        for e in 0..3 {
+            let (p, q) = (tri[e], tri[(e + 1) % 3]);
+            if let Some(&k) = front_pairs.get(&[p.min(q), p.max(q)]) {
+                behind.entry(k).or_insert(t);
+            }
+        }
+    }
+    for (i, nt) in new_tris.iter().enumerate() {
+        if let Some(&t) = behind.get(&plan.edges[i]) {
+            let n_new = (nt[1] - nt[0]).cross(&(nt[2] - nt[0]));
+            let n_old = crack.surface.normal(t);
+            if n_new.dot(&n_old) < fold_cos * n_new.norm() * n_old.norm() {
+                flag(i);
+            }
+        }
+    }
     for i in 0..plan.triangles.len() {
         for j in i + 1..plan.triangles.len() {
             if overlap(&new_boxes[i], &new_boxes[j])
@@ -542,6 +637,27 @@ mod tests {
         assert_eq!((r.new_vertices, r.new_triangles), (1, 1));
         check_valid(&c);
         assert_eq!(c.front.len(), 2);
+    }
+
+    /// Turn-over (module doc): a front end moved back behind its front edge and past its
+    /// neighbour along it (lifted off the plane, so that its triangle meets no old one)
+    /// would make a triangle facing against the surface behind it: refused as a fold.
+    #[test]
+    fn turned_over_triangle_is_a_fold() {
+        let (mut c, mut refs) = strip(2);
+        let [a, b] = c.front[0];
+        let (xa, xb) = (c.surface.vertices[a as usize], c.surface.vertices[b as usize]);
+        // Behind the front line x = 1, beyond b along the edge a → b, 0.02 above the plane.
+        let to = xb + (xb - xa) * 0.5 + Vector3::new(-0.1, 0.0, 0.02);
+        let moves = BTreeMap::from([(a, to)]);
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert_eq!((r.folded.clone(), r.refused.clone(), r.new_triangles), (vec![a], vec![], 0));
+        check_valid(&c);
+        // The same move ahead of the front line makes its triangle.
+        let (mut c, mut refs) = strip(2);
+        let moves = BTreeMap::from([(a, xb + (xb - xa) * 0.5 + Vector3::new(0.1, 0.0, 0.02))]);
+        let r = advance_front(&mut c, &mut refs, &moves, &[]);
+        assert_eq!((r.folded.len(), r.new_triangles), (0, 1));
     }
 
     /// A segment stretched past twice its reference length is split (five triangles, two

@@ -113,24 +113,37 @@
 //!    lagging as the far face neared was stopped at x = 18.97, 1 mm short of it, when the
 //!    rule did not ask for J₁ ≤ 0.
 //!    **Back onto the boundary**: a front end on a free face whose move (along the face,
-//!    its image counted) ends outside the material by the direct relative volume
-//!    (V < ½ with no face image) by more than [`PULL_BACK_MIN`] = 0.1 cell — an end that starts beyond the face, as the tube's
-//!    initial crack (its polygon reaches r = 50.35 for the outer radius 50, as the
-//!    archived input), or a move along the tangent plane of a convex face — is brought
-//!    back along −n onto the boundary (the last point with V ≥ ½ from one cell inside to
-//!    the target, when that inner point is inside). Measured on `tube_crack` (main
-//!    833f572): the outer ends' first moves made crack particles at r = 50.58, carried
-//!    with the bulging wall to 0.89 mm outside it (check `inside`, 0.5). Not for less than
-//!    0.1 cell: a front end on a stretched flat face has V a little below ½ (measured on
-//!    the slab without rollers, tests/growth3.rs `free_face_fronts_grow_through_the_slab`:
-//!    V = 0.4968–0.4986 at its targets), and brought back 0.002–0.005 mm inside its face
-//!    its J₁ fell to 0.02 N/mm (K_eq ≈ 5 for K_Ic ≫) and it never moved again after its
-//!    fifth move (why J₁ collapses for a node a few µm inside the face is not diagnosed);
-//!    within 0.1 cell the node is on the face to the resolution of the MPM boundary. The
-//!    tube's outer ends start 0.35 mm (0.18 cell) beyond it. Nor for a move trimmed at
-//!    the boundary (the node stops there): where the face meets another face (the slab's
-//!    far edge) the direct V is ¼ and the pull-back along −n took a face node 0.6 mm off
-//!    its face.
+//!    its image counted) is not trimmed and ends outside the material by the direct
+//!    relative volume (V < ½ with no face image) is brought back along −n onto the boundary
+//!    (the last point with V ≥ ½ from one cell inside to the target, when that inner point
+//!    is inside) when either (a) the node **starts** more than [`START_OUTSIDE`] = 0.02 cell
+//!    beyond the boundary (the same distance, along n from one cell inside, measured at its
+//!    position before the move), or (b) the pull-back exceeds [`PULL_BACK_MIN`] = 0.1 cell
+//!    (a move along the tangent plane of a convex face). (a) is an end that was put or left
+//!    outside the material: the tube's initial crack (its polygon reaches r = 50.35 for the
+//!    outer radius 50, as the archived input; the boundary there is at r ≈ 50.25), or an
+//!    end carried out by many moves each below (b) (a move of one increment, 1 mm, along
+//!    the tangent plane at r = 50 ends 0.01 mm outside: the drift adds up, and (a) brings it
+//!    back once it passes 0.02 cell). Measured on `tube_crack`: with (b) alone the outer
+//!    ends' first moves (step 165) ended at r = 50.45, a pull-back of 0.2 mm = exactly
+//!    0.1 cell that (b) does not make, and were carried with the bulging wall to 0.64 mm
+//!    outside it (check `inside`, 0.5; main 833f572 without any pull-back: 0.89 mm).
+//!    Why the thresholds: a front end on a stretched flat face has V a little below ½
+//!    (measured on the slab without rollers, tests/growth3.rs
+//!    `free_face_fronts_grow_through_the_slab`: V = 0.4968–0.4986 at its targets, 0.002–
+//!    0.005 mm beyond the face), and brought back by so little inside its face its J₁ fell
+//!    to 0.02 N/mm and it never moved again after its fifth move (why J₁ collapses for a
+//!    node a few µm inside the face is not diagnosed); a pull-back limit of 0.02 cell
+//!    (instead of (b)'s 0.1) broke the same test by the far edge (node 0 ended at
+//!    x = 20.10). The start's distance tells an end that is outside from one that is on
+//!    its face to the resolution of the MPM boundary: on the slab the face nodes start
+//!    within 0.005 mm of the face for most of the run, and (a) first acts at step 325
+//!    (x ≈ 15, start 0.05 mm = 0.025 cell beyond the face, target brought back to 0.009 mm
+//!    inside it; the test passes). Never after a trimmed move (the node stops there):
+//!    where the face meets another face (the slab's far edge) the direct V is ¼ and the
+//!    pull-back along −n took a face node 0.6 mm off its face (with (a) on trimmed moves:
+//!    1.5 mm, at step 334, start 0.15 mm "beyond" the face only because the far face was
+//!    within a cell).
 //! 6. **New surface** ([`advance_front`], 001 Fig. 3): before it, the targets of the
 //!    interior nodes of every run of consecutive moving front nodes are re-spaced along the
 //!    new front to the arc-length fractions they had ([`respace_moves`]; the reason, a
@@ -166,11 +179,11 @@
 //! exact sums in J and the relative volume, so a run is bit-identical for any particle
 //! order and thread count (tests/three_d_crack_reproducibility.rs).
 
-use crate::crack::advance3::{advance_front_stopped, prune_front, respace_moves};
+use crate::crack::advance3::{advance_front_stopped, fold_cos, prune_front, respace_moves};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
-use crate::fracture::growth::{speed_allows, speed_estimate, GrowthError, GrowthSettings, Toughness, BOUNDARY_VOLUME, NEAR_BOUNDARY_VOLUME};
+use crate::fracture::growth::{speed_allows, Criterion, speed_estimate, GrowthError, GrowthSettings, Toughness, BOUNDARY_VOLUME, NEAR_BOUNDARY_VOLUME};
 use crate::fracture::speed::{rayleigh_speed_for, speed_factors_for};
 use crate::simulation::Simulation;
 use std::collections::{BTreeMap, BTreeSet};
@@ -355,6 +368,7 @@ impl Simulation<D3> {
     fn grow_fronts_with(&mut self, growth: &mut Growth3) -> Result<(), GrowthError> {
         let h = self.grid.min_h();
         let mut boundary: Option<MaterialBoundary3> = None;
+        let growth_hoop_only = growth.toughness.iter().flatten().all(|t| matches!(t.criterion, Criterion::MaxHoopStress));
         for fg in growth.cracks.iter_mut() {
             if !self.step_count.is_multiple_of(fg.settings.every) {
                 continue;
@@ -419,17 +433,21 @@ impl Simulation<D3> {
                                 }
                             }
                             let (mut target, at_edge) = trim_by(fr.x, to, volume(face));
-                            // A front end on a free face whose move ends outside the
-                            // material (with no image: the end started beyond the face, or
-                            // the face is convex) is brought back along −n to the boundary
-                            // (module doc, item 5).
-                            if let (Some((n, _)), false) = (face, at_edge) {
+                            // A front end on a free face whose untrimmed move ends outside
+                            // the material (with no image) is brought back along −n to the
+                            // boundary when it started beyond it (by > START_OUTSIDE) or the
+                            // pull-back exceeds PULL_BACK_MIN (module doc, item 5).
+                            if let Some((n, _)) = face {
                                 let direct = volume(None);
-                                let inner = target - n * h;
-                                if direct(target) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME {
-                                    let back = trim_by(inner, target, &direct).0;
-                                    if (back - target).norm() > PULL_BACK_MIN * h {
-                                        target = back;
+                                // How far beyond the boundary (along n) the node starts.
+                                let beyond = |x: Vector3| {
+                                    let inner = x - n * h;
+                                    (direct(x) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME).then(|| (trim_by(inner, x, &direct).0 - x).norm())
+                                };
+                                let started_out = beyond(fr.x).is_some_and(|d| d > START_OUTSIDE * h);
+                                if let Some(d) = beyond(target) {
+                                    if !at_edge && (started_out || d > PULL_BACK_MIN * h) {
+                                        target = trim_by(target - n * h, target, &direct).0;
                                     }
                                 }
                             }
@@ -487,7 +505,9 @@ impl Simulation<D3> {
                 let mut crack = self.cracks[c].clone();
                 // Stopped for good and not moving (sliver rule of advance_front_stopped).
                 let stopped: BTreeSet<u32> = rows.iter().filter(|r| r.status != NodeStatus::Growing && !moves.contains_key(&r.vertex)).map(|r| r.vertex).collect();
-                let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped);
+                // Fold test (advance3 module doc, "turn-over"): 80.5° when every material
+                // with a toughness grows by maximum hoop stress, 90° otherwise.
+                let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped, fold_cos(growth_hoop_only));
                 fg.pruned += report.dropped;
                 self.cracks[c] = crack;
                 fg.splits += report.splits;
@@ -755,6 +775,11 @@ pub const LAG_INCREMENTS: f64 = 1.5;
 /// A free-face end is brought back onto the boundary (module doc, item 5, "back onto the
 /// boundary") only when that moves it by more than this many cells.
 pub const PULL_BACK_MIN: f64 = 0.1;
+
+/// A free-face end that starts more than this many cells beyond the boundary (direct
+/// relative volume, along the face's outward normal) is brought back onto it whatever its
+/// move (module doc, item 5, "back onto the boundary").
+pub const START_OUTSIDE: f64 = 0.02;
 
 /// Re-spacing (module doc, item 6) changes a target only by more than this many cells:
 /// below it the change is rounding (a front that keeps its spacing is left to the bit).

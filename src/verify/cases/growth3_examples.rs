@@ -238,6 +238,43 @@ pub fn mixity(records: &[NodeRecord], da: f64, late_after: f64) -> Mixity {
     m
 }
 
+/// The last check's front nodes with their angles round an axis (degrees, `angle(x)` in
+/// (−180°, 180°]) unwrapped continuously from the first check: each row's angle is taken
+/// within 180° of the unwrapped angle the same node (same `label`) had at the previous
+/// check, or, for a node new at this check (a split point), of that of the previous
+/// check's node nearest to it. A branch running round a tube then keeps counting past
+/// 180° (case `tube_crack`: its two ends run in opposite senses from the crack's middle,
+/// so a node's branch is the sign of its unwrapped angle). Between two checks a node moves
+/// at most a few increments (one half cell each, about 1.3° round the tube), so the
+/// unwrapping is unambiguous; a split point lies on an edge of its own branch, within
+/// one edge length of the nearest previous node, while the other branch is 4 or more
+/// cells away in z where the two pass each other. Returns (index into `records`,
+/// unwrapped angle).
+pub fn unwrapped_angles(records: &[NodeRecord], angle: impl Fn(&Vector3) -> f64) -> Vec<(usize, f64)> {
+    let wrap = |d: f64| d - 360.0 * (d / 360.0).round();
+    let mut by_step: BTreeMap<u64, Vec<usize>> = BTreeMap::new();
+    for (i, r) in records.iter().enumerate() {
+        by_step.entry(r.step).or_default().push(i);
+    }
+    let mut prev: Vec<(usize, f64)> = Vec::new();
+    for rows in by_step.values() {
+        let mut cur = Vec::with_capacity(rows.len());
+        for &i in rows {
+            let r = &records[i];
+            let base = prev.iter().find(|&&(j, _)| records[j].label == r.label).or_else(|| {
+                prev.iter().min_by(|a, b| (records[a.0].x - r.x).norm().total_cmp(&(records[b.0].x - r.x).norm()))
+            });
+            let a = angle(&r.x);
+            cur.push((i, match base {
+                Some(&(_, b)) => b + wrap(a - b),
+                None => a,
+            }));
+        }
+        prev = cur;
+    }
+    prev
+}
+
 /// Area-weighted mean unit normal of triangles (each turned into the hemisphere of `axis`)
 /// and its angle to `axis` in degrees; NaN without area.
 pub fn mean_tilt(tris: &[[Vector3; 3]], axis: Vector3) -> f64 {
@@ -468,14 +505,14 @@ pub fn run_tube(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let tilt = mean_tilt(&r.grown, Vector3::z());
     out.measure("surface_turns", "h = 2 mm", tilt, 0.0);
     // Each end's travel round the tube and the axial offset of the two paths.
-    let last_step = r.records.last().map_or(0, |x| x.step);
-    let last: Vec<&NodeRecord> = r.records.iter().filter(|x| x.step == last_step).collect();
-    let plus: Vec<&&NodeRecord> = last.iter().filter(|x| x.x.x > 0.0).collect();
-    let minus: Vec<&&NodeRecord> = last.iter().filter(|x| x.x.x < 0.0).collect();
-    let travel = |v: &[&&NodeRecord]| v.iter().map(|x| angle(&x.x).abs()).fold(f64::NAN, f64::min);
+    // Branches by the sign of the angle unwrapped over the checks (cases.toml, runs_round).
+    let last = unwrapped_angles(&r.records, angle);
+    let plus: Vec<(&NodeRecord, f64)> = last.iter().filter(|x| x.1 > 0.0).map(|&(i, a)| (&r.records[i], a)).collect();
+    let minus: Vec<(&NodeRecord, f64)> = last.iter().filter(|x| x.1 < 0.0).map(|&(i, a)| (&r.records[i], -a)).collect();
+    let travel = |v: &[(&NodeRecord, f64)]| v.iter().map(|x| x.1).fold(f64::NAN, f64::min);
     let (tp, tm) = (travel(&plus), travel(&minus));
     out.measure("runs_round", "h = 2 mm", tp.min(tm), 0.0);
-    let zmean = |v: &[&&NodeRecord]| v.iter().map(|x| x.x.z).sum::<f64>() / v.len() as f64;
+    let zmean = |v: &[(&NodeRecord, f64)]| v.iter().map(|x| x.0.x.z).sum::<f64>() / v.len() as f64;
     let offset = (zmean(&plus) - zmean(&minus)).abs();
     out.measure("paths_offset", "h = 2 mm", offset, 0.0);
     out.measure("inside", "h = 2 mm", r.max_outside, 0.0);
@@ -484,7 +521,7 @@ pub fn run_tube(_variant: Variant) -> anyhow::Result<CaseOutput> {
         "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. Growth from \
          t = {:.4} ms; front nodes {} at the start, at most {}, {} at the end; {} splits, {} merges, {} edges pruned; {} rows refused \
          at a crack. Median |K_II|/K_I {:.3} at onset, {:.3} late; grown surface's mean normal {:.1}° from the axis (initial 45°). \
-         Ends at the last check: {:.1}° and {:.1}° round the tube from the crack's middle, mean z {:.2} and {:.2} mm.",
+         Ends at the last check (branches by their angle unwrapped over the checks): the +x branch's least travel {:.1}°, the −x branch's {:.1}° round the tube from the crack's middle, mean z {:.2} and {:.2} mm.",
         r.particles,
         r.steps,
         r.time,
