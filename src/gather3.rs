@@ -79,12 +79,7 @@ impl Sum4 for Acc4 {
     /// `FastSum::add` on four lanes: the same operations in the same order.
     #[inline(always)]
     unsafe fn add(&mut self, x: __m256d) {
-        let s0 = self.s;
-        let s = _mm256_add_pd(s0, x);
-        let bb = _mm256_sub_pd(s, s0);
-        let t = _mm256_add_pd(_mm256_sub_pd(s0, _mm256_sub_pd(s, bb)), _mm256_sub_pd(x, bb));
-        self.s = s;
-        self.c = _mm256_add_pd(self.c, t);
+        (self.s, self.c) = two_sum_step(self.s, self.c, x);
         let ax = _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
         self.a = _mm256_add_pd(self.a, ax);
         // minpd(ax, m) = ax < m ? ax : m, the select of FastSum::add (m kept for a NaN ax).
@@ -327,13 +322,19 @@ impl Acc4sc {
 
     #[inline(always)]
     unsafe fn add(&mut self, x: __m256d) {
-        let s0 = self.s;
-        let s = _mm256_add_pd(s0, x);
-        let bb = _mm256_sub_pd(s, s0);
-        let t = _mm256_add_pd(_mm256_sub_pd(s0, _mm256_sub_pd(s, bb)), _mm256_sub_pd(x, bb));
-        self.s = s;
-        self.c = _mm256_add_pd(self.c, t);
+        (self.s, self.c) = two_sum_step(self.s, self.c, x);
     }
+}
+
+/// One step of `FastSum::add`'s running sum on four lanes: TwoSum(s, x) = (s′, t) and
+/// the compensation c + t, the same operations in the same order (shared by [`Acc4`]
+/// and [`Acc4sc`]).
+#[inline(always)]
+unsafe fn two_sum_step(s0: __m256d, c: __m256d, x: __m256d) -> (__m256d, __m256d) {
+    let s = _mm256_add_pd(s0, x);
+    let bb = _mm256_sub_pd(s, s0);
+    let t = _mm256_add_pd(_mm256_sub_pd(s0, _mm256_sub_pd(s, bb)), _mm256_sub_pd(x, bb));
+    (s, _mm256_add_pd(c, t))
 }
 
 /// `velocity_gradient::<Fast, false>` of particle `i`: lanes v_a·G_b, row a in one vector.
