@@ -439,15 +439,15 @@ impl Simulation<D3> {
                             // pull-back exceeds PULL_BACK_MIN (module doc, item 5).
                             if let Some((n, _)) = face {
                                 let direct = volume(None);
-                                // How far beyond the boundary (along n) the node starts.
-                                let beyond = |x: Vector3| {
+                                // A point beyond the boundary (along n): its point back on it.
+                                let back_on = |x: Vector3| {
                                     let inner = x - n * h;
-                                    (direct(x) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME).then(|| (trim_by(inner, x, &direct).0 - x).norm())
+                                    (direct(x) < BOUNDARY_VOLUME && direct(inner) >= BOUNDARY_VOLUME).then(|| trim_by(inner, x, &direct).0)
                                 };
-                                let started_out = beyond(fr.x).is_some_and(|d| d > START_OUTSIDE * h);
-                                if let Some(d) = beyond(target) {
-                                    if !at_edge && (started_out || d > PULL_BACK_MIN * h) {
-                                        target = trim_by(target - n * h, target, &direct).0;
+                                let started_out = back_on(fr.x).is_some_and(|b| (b - fr.x).norm() > START_OUTSIDE * h);
+                                if let Some(back) = back_on(target) {
+                                    if !at_edge && (started_out || (back - target).norm() > PULL_BACK_MIN * h) {
+                                        target = back;
                                     }
                                 }
                             }
