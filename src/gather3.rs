@@ -25,6 +25,7 @@
 #![cfg(target_arch = "x86_64")]
 
 use crate::dim::{Sym3, Tensor3, Vector3, D3};
+use crate::exact::ExactSum;
 use crate::grid::MAX_FIELDS;
 use crate::simulation::{Dimension, Simulation};
 use crate::step::{NodeForce, NodeMass};
@@ -52,13 +53,62 @@ pub(crate) fn same<A: 'static + Copy, B: 'static + Copy>(x: A) -> B {
     unsafe { std::mem::transmute_copy(&x) }
 }
 
-/// Four lanes of a certified compensated sum.
-pub(crate) trait Sum4: Copy {
-    unsafe fn new() -> Self;
+/// Something that takes the four lanes of a gather's terms, one `__m256d` per pair.
+pub(crate) trait Add4 {
     unsafe fn add(&mut self, x: __m256d);
-    /// The certified sums of the first `lanes` lanes of each accumulator in `acc` (n
-    /// terms each), or None if one of them is not certified.
-    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Self; V]) -> Option<[[f64; 4]; V]>;
+}
+
+/// Four lanes of a certified compensated sum.
+pub(crate) trait Sum4: Copy + Add4 {
+    unsafe fn new() -> Self;
+    /// The sums of the first `lanes` lanes of `acc` (n terms) as far as they are
+    /// certified: `Ok` if all are, else the certified ones and which they are
+    /// ([`Uncertified`], for [`ExactLanes`] to complete).
+    unsafe fn lanes(n: usize, lanes: usize, acc: &Self) -> Result<[f64; 4], Uncertified>;
+}
+
+/// The lanes of a node gather that its certified sums left open: the sums of the lanes
+/// that are certified (the correctly rounded ones), and which those are (bit k: lane k).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Uncertified {
+    sums: [f64; 4],
+    ok: i32,
+}
+
+/// The last resort of the 3D node gathers: the lanes that neither [`Acc4`] nor [`Acc4x3`]
+/// certified (`Uncertified`), summed with [`ExactSum`] over the same terms; the other
+/// lanes keep their certified sums. Every lane is then the correctly rounded sum, as
+/// `exact::Rerun` gives it (which runs the generic gather again with three-level sums and
+/// kept terms for every lane, and sums the lanes those do not certify exactly), so the
+/// bits are the same; only the lanes left open pay for the exact sum.
+struct ExactLanes {
+    open: [bool; 4],
+    sums: [f64; 4],
+    exact: [ExactSum; 4],
+}
+
+impl ExactLanes {
+    fn new(u: Uncertified) -> Self {
+        ExactLanes { open: std::array::from_fn(|k| u.ok & (1 << k) == 0), sums: u.sums, exact: std::array::from_fn(|_| ExactSum::new()) }
+    }
+
+    /// Every lane's correctly rounded sum.
+    fn finish(&self) -> [f64; 4] {
+        std::array::from_fn(|k| if self.open[k] { self.exact[k].value() } else { self.sums[k] })
+    }
+}
+
+impl Add4 for ExactLanes {
+    #[inline(always)]
+    unsafe fn add(&mut self, x: __m256d) {
+        let mut v = [0.0; 4];
+        _mm256_storeu_pd(v.as_mut_ptr(), x);
+        for k in 0..4 {
+            if self.open[k] {
+                self.exact[k].add(v[k]);
+            }
+        }
+    }
 }
 
 /// Four lanes of [`crate::exact::FastSum`]: running sum, compensation, Σ|x|, min |x|.
@@ -70,12 +120,7 @@ pub(crate) struct Acc4 {
     m: __m256d,
 }
 
-impl Sum4 for Acc4 {
-    #[inline(always)]
-    unsafe fn new() -> Self {
-        Acc4 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
-    }
-
+impl Add4 for Acc4 {
     /// `FastSum::add` on four lanes: the same operations in the same order.
     #[inline(always)]
     unsafe fn add(&mut self, x: __m256d) {
@@ -85,8 +130,41 @@ impl Sum4 for Acc4 {
         // minpd(ax, m) = ax < m ? ax : m, the select of FastSum::add (m kept for a NaN ax).
         self.m = _mm256_min_pd(ax, self.m);
     }
+}
 
-    /// As `FastSum::certified` gives them ([`certify4`]).
+impl Sum4 for Acc4 {
+    #[inline(always)]
+    unsafe fn new() -> Self {
+        Acc4 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
+    }
+
+    /// As `FastSum::certified` gives them ([`certify4`]), lane by lane.
+    #[inline(always)]
+    unsafe fn lanes(n: usize, lanes: usize, acc: &Acc4) -> Result<[f64; 4], Uncertified> {
+        let want = (1 << lanes) - 1;
+        let mut out = [0.0; 4];
+        let ok = if n == 0 {
+            want
+        } else if n > 1 << 20 {
+            0
+        } else {
+            let nf = n as f64;
+            let (sum, mask) = certify4(acc, _mm256_set1_pd(nf * nf));
+            _mm256_storeu_pd(out.as_mut_ptr(), sum);
+            mask & want
+        };
+        if ok == want {
+            Ok(out)
+        } else {
+            Err(Uncertified { sums: out, ok: ok | !want })
+        }
+    }
+}
+
+impl Acc4 {
+    /// The certified sums of the first `lanes` lanes of each accumulator in `acc` (n
+    /// terms each) as `FastSum::certified` gives them ([`certify4`]), or None if one of
+    /// them is not certified.
     #[inline(always)]
     unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4; V]) -> Option<[[f64; 4]; V]> {
         let mut out = [[0.0; 4]; V];
@@ -121,12 +199,7 @@ pub(crate) struct Acc4x3 {
     m: __m256d,
 }
 
-impl Sum4 for Acc4x3 {
-    #[inline(always)]
-    unsafe fn new() -> Self {
-        Acc4x3 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), d: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
-    }
-
+impl Add4 for Acc4x3 {
     #[inline(always)]
     unsafe fn add(&mut self, x: __m256d) {
         let s0 = self.s;
@@ -145,22 +218,34 @@ impl Sum4 for Acc4x3 {
         let take = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(ax, self.m), _mm256_cmp_pd::<_CMP_NEQ_UQ>(ax, _mm256_setzero_pd()));
         self.m = _mm256_blendv_pd(self.m, ax, take);
     }
+}
+
+impl Sum4 for Acc4x3 {
+    #[inline(always)]
+    unsafe fn new() -> Self {
+        Acc4x3 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), d: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
+    }
 
     /// `FastSum3::certified`, lane by lane (`certify`, else `certify3`).
     #[inline(always)]
-    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4x3; V]) -> Option<[[f64; 4]; V]> {
-        let mut out = [[0.0; 4]; V];
-        for (o, x) in out.iter_mut().zip(acc) {
-            let mut p = [[0.0; 4]; 5];
-            for (q, v) in p.iter_mut().zip([x.s, x.c, x.d, x.a, x.m]) {
-                _mm256_storeu_pd(q.as_mut_ptr(), v);
-            }
-            for k in 0..lanes {
-                let n = n as u32;
-                o[k] = crate::exact::certify(p[0][k], p[1][k], p[3][k], p[4][k], n).or_else(|| crate::exact::certify3(p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], n))?;
+    unsafe fn lanes(n: usize, lanes: usize, x: &Acc4x3) -> Result<[f64; 4], Uncertified> {
+        let mut p = [[0.0; 4]; 5];
+        for (q, v) in p.iter_mut().zip([x.s, x.c, x.d, x.a, x.m]) {
+            _mm256_storeu_pd(q.as_mut_ptr(), v);
+        }
+        let (mut out, mut ok) = ([0.0; 4], !((1 << lanes) - 1));
+        let n = n as u32;
+        for (k, o) in out.iter_mut().enumerate().take(lanes) {
+            if let Some(v) = crate::exact::certify(p[0][k], p[1][k], p[3][k], p[4][k], n).or_else(|| crate::exact::certify3(p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], n)) {
+                *o = v;
+                ok |= 1 << k;
             }
         }
-        Some(out)
+        if ok == -1 {
+            Ok(out)
+        } else {
+            Err(Uncertified { sums: out, ok })
+        }
     }
 }
 
@@ -234,55 +319,82 @@ pub(crate) fn fill_stress_columns(sim: &Simulation<D3>, out: &mut Vec<[[f64; 4];
 /// [`node_momentum`] share.
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn mass_momentum_sum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> (A, usize) {
+unsafe fn mass_momentum_sum<A: Add4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize, acc: &mut A) -> usize {
     let pairs = &sim.pairs;
     let items = pairs.of_active(a);
     let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
-    let mut acc = A::new();
     let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
     for (&item, &pp) in items.iter().zip(owner) {
         let (item, pp) = (item as usize, pp as usize);
         debug_assert!(item < pairs.s.len() && pp == item / 27 && pp < sim.particles.len());
         acc.add(_mm256_mul_pd(_mm256_loadu_pd((*mv.add(pp)).as_ptr()), _mm256_broadcast_sd(&*s.add(item))));
     }
-    (acc, items.len())
+    items.len()
 }
 
 /// `node_mass::<Fast, false, false>` of the active node `a`, from the factors of
-/// [`fill_mass_momentum`]: lanes (m·S, (m·v)·S).
+/// [`fill_mass_momentum`]: lanes (m·S, (m·v)·S). `Err`: the lanes `A` left open, for
+/// [`node_mass_exact`].
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<NodeMass<Vector3>> {
-    let (acc, n) = mass_momentum_sum::<A>(sim, mv, a);
-    let [l] = A::certified(n, 4, &[acc])?;
+pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Result<NodeMass<Vector3>, Uncertified> {
+    let mut acc = A::new();
+    let n = mass_momentum_sum(sim, mv, a, &mut acc);
+    Ok(mass_out(n, A::lanes(n, 4, &acc)?))
+}
+
+/// [`node_mass`] completed: the lanes `u` left open summed exactly ([`ExactLanes`]).
+#[cold]
+#[inline(never)]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_mass_exact(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize, u: Uncertified) -> NodeMass<Vector3> {
+    let mut acc = ExactLanes::new(u);
+    let n = mass_momentum_sum(sim, mv, a, &mut acc);
+    mass_out(n, acc.finish())
+}
+
+#[inline(always)]
+fn mass_out(n: usize, l: [f64; 4]) -> NodeMass<Vector3> {
     let mut out = NodeMass { present: if n == 0 { 0 } else { 1 }, ..Default::default() };
     out.mass[0] = l[0];
     out.mom[0] = Vector3::new(l[1], l[2], l[3]);
     out.volume = f64::NAN;
-    Some(out)
+    out
 }
 
 /// `node_momentum::<Fast, false>` of the active node `a`: lanes (m·v)·S, from the factors
-/// of [`fill_mass_momentum`] (the mass lane is formed and left unread).
+/// of [`fill_mass_momentum`] (the mass lane is formed and left unread). `Err`: the lanes `A` left open, for [`node_momentum_exact`].
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_momentum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<[Vector3; MAX_FIELDS]> {
-    let (acc, n) = mass_momentum_sum::<A>(sim, mv, a);
+pub(crate) unsafe fn node_momentum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Result<[Vector3; MAX_FIELDS], Uncertified> {
+    let mut acc = A::new();
+    let n = mass_momentum_sum(sim, mv, a, &mut acc);
     let mut out = [Vector3::zeros(); MAX_FIELDS];
     if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
-        let [l] = A::certified(n, 4, &[acc])?;
+        let l = A::lanes(n, 4, &acc)?;
         out[0] = Vector3::new(l[1], l[2], l[3]);
     }
-    Some(out)
+    Ok(out)
 }
 
-/// `node_forces::<Fast, false>` of the active node `a` at a node without external force
-/// terms: lanes (−V)·(σ·G), σ·G = (σ_x G_x + σ_y G_y) + σ_z G_z by columns, from the
-/// factors of [`fill_stress_columns`]; the external force +0.
+/// [`node_momentum`] completed: the lanes `u` left open summed exactly ([`ExactLanes`]).
+#[cold]
+#[inline(never)]
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize) -> Option<NodeForce<Vector3>> {
+pub(crate) unsafe fn node_momentum_exact(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize, u: Uncertified) -> [Vector3; MAX_FIELDS] {
+    let mut acc = ExactLanes::new(u);
+    mass_momentum_sum(sim, mv, a, &mut acc);
+    let l = acc.finish();
+    let mut out = [Vector3::zeros(); MAX_FIELDS];
+    out[0] = Vector3::new(l[1], l[2], l[3]);
+    out
+}
+
+/// The terms of [`node_forces`] into `acc`; returns their number.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn forces_sum<A: Add4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize, acc: &mut A) -> usize {
     let pairs = &sim.pairs;
     let items = pairs.of_active(a);
     let (g, cols) = (pairs.g.as_ptr() as *const f64, cols.as_ptr());
-    let mut acc = A::new();
     let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
     for (&item, &pp) in items.iter().zip(owner) {
         let (item, pp) = (item as usize, pp as usize);
@@ -295,19 +407,40 @@ pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4
         );
         acc.add(_mm256_mul_pd(_mm256_loadu_pd(c[3].as_ptr()), t));
     }
+    items.len()
+}
+
+/// `node_forces::<Fast, false>` of the active node `a` at a node without external force
+/// terms: lanes (−V)·(σ·G), σ·G = (σ_x G_x + σ_y G_y) + σ_z G_z by columns, from the
+/// factors of [`fill_stress_columns`]; the external force +0. `Err`: the lanes `A` left
+/// open, for [`node_forces_exact`].
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize) -> Result<NodeForce<Vector3>, Uncertified> {
+    let mut acc = A::new();
+    let n = forces_sum(sim, cols, a, &mut acc);
     let mut out = NodeForce::default();
     if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
-        let [l] = A::certified(items.len(), 3, &[acc])?;
+        let l = A::lanes(n, 3, &acc)?;
         out.fint[0] = Vector3::new(l[0], l[1], l[2]);
         out.fext[0] = Vector3::zeros();
     }
-    Some(out)
+    Ok(out)
 }
 
-/// Four lanes of a compensated sum without [`Acc4`]'s Σ|x| and min |x|: running sum and
-/// compensation only (the same TwoSum and compensation operations as `FastSum::add`, so
-/// the same s and c). [`velocity_gradient`] certifies it with bounds of Σ|x| and min |x|
-/// formed from the factors of its terms.
+/// [`node_forces`] completed: the lanes `u` left open summed exactly ([`ExactLanes`]).
+#[cold]
+#[inline(never)]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_forces_exact(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize, u: Uncertified) -> NodeForce<Vector3> {
+    let mut acc = ExactLanes::new(u);
+    forces_sum(sim, cols, a, &mut acc);
+    let l = acc.finish();
+    let mut out = NodeForce::default();
+    out.fint[0] = Vector3::new(l[0], l[1], l[2]);
+    out.fext[0] = Vector3::zeros();
+    out
+}
+
 #[derive(Clone, Copy)]
 struct Acc4sc {
     s: __m256d,
