@@ -534,6 +534,60 @@ pub(crate) unsafe fn velocity_gradient(sim: &Simulation<D3>, i: usize) -> Option
     }
 }
 
+/// The terms v_r ⊗ G of row r of [`velocity_gradient`] (lanes b = 0..2: v_r·G_b, the
+/// products of the generic gather) into `acc`, for each row r that has one; returns the
+/// number of pairs.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn velocity_gradient_rows<A: Add4>(sim: &Simulation<D3>, i: usize, acc: &mut [Option<A>; 3]) -> usize {
+    let pairs = &sim.pairs;
+    let vel = sim.nodes.fields[0].vel.as_ptr() as *const f64;
+    let (node, g) = (pairs.node.as_ptr(), pairs.g.as_ptr() as *const f64);
+    let k = pairs.of_particle(i);
+    for k in k.clone() {
+        let n = *node.add(k) as usize;
+        debug_assert!(n < sim.nodes.fields[0].vel.len());
+        let gv = load3(g.add(3 * k));
+        let v = vel.add(3 * n);
+        for (r, a) in acc.iter_mut().enumerate() {
+            if let Some(a) = a {
+                a.add(_mm256_mul_pd(_mm256_broadcast_sd(&*v.add(r)), gv));
+            }
+        }
+    }
+    k.len()
+}
+
+/// [`velocity_gradient`] when neither of its certifications holds: the rows with
+/// three-level sums ([`Acc4x3`], certificates `certify` and `certify3` on Σ|x| and the
+/// smallest non-zero |x| themselves), and the lanes those leave open summed exactly
+/// ([`ExactLanes`]) — what the generic gather's rerun with `exact::Rerun` gives, the
+/// correctly rounded sums, without its kept terms and three-level sums of all 12 lanes.
+#[cold]
+#[inline(never)]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn velocity_gradient_exact(sim: &Simulation<D3>, i: usize) -> Tensor3 {
+    let mut acc = [Some(Acc4x3::new()); 3];
+    let n = velocity_gradient_rows(sim, i, &mut acc);
+    let mut open: [Option<ExactLanes>; 3] = [None, None, None];
+    let mut t = [[0.0; 4]; 3];
+    for r in 0..3 {
+        match Acc4x3::lanes(n, 3, acc[r].as_ref().unwrap()) {
+            Ok(l) => t[r] = l,
+            Err(u) => open[r] = Some(ExactLanes::new(u)),
+        }
+    }
+    if open.iter().any(Option::is_some) {
+        velocity_gradient_rows(sim, i, &mut open);
+        for (tr, o) in t.iter_mut().zip(&open) {
+            if let Some(o) = o {
+                *tr = o.finish();
+            }
+        }
+    }
+    Tensor3::from_fn(|a, b| t[a][b])
+}
+
 /// [`velocity_gradient`]'s certificates with the bound a' = fl(V_a·S_b) per row a (`vmax`
 /// holds V, `gsum` S) and the lower bounds m' of min |x| in `m` (one vector per row).
 #[inline(always)]

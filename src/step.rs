@@ -485,10 +485,7 @@ impl<S: Dimension> Simulation<S> {
         let fast3 = if avx { fast3d(this) } else { None };
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
             false => match fast3 {
-                Some(d3) => fast_or_exact(
-                    || g3!(velocity_gradient(d3, i)),
-                    || simd!(avx, avx2::velocity_gradient::<S, Exact, false>(this, i), this.velocity_gradient::<Exact, false>(i)),
-                ),
+                Some(d3) => g3!(velocity_gradient(d3, i)).unwrap_or_else(|| g3_exact!(velocity_gradient_exact(d3, i))),
                 None => gather!(avx, avx, this.velocity_gradient::<false>(i)),
             },
             true => gather!(avx, false, this.velocity_gradient::<true>(i)),
