@@ -648,3 +648,168 @@ pub(crate) unsafe fn particle_increments(sim: &Simulation<D3>, i: usize) -> Opti
     let [v, w] = Acc4::certified(k.len(), 3, &acc)?;
     Some((Vector3::new(v[0], v[1], v[2]), Vector3::new(w[0], w[1], w[2])))
 }
+
+/// The uGIMP weights of a 3D particle ([`crate::shape::weights_into_3d`] with
+/// `ShapeKind::Ugimp`), its 1D part on the three axes at once: the candidate nodes of
+/// `shape::axis_weights` (⌊(x ∓ l_p − x₀)/h⌋ with the neighbours of near-integer
+/// quotients, clipped to the grid) and `shape::ugimp_1d` at each of them, its three
+/// branches as selects (the same expressions on the same operands, so the same values),
+/// then the first three non-zero weights per axis in node order, and the tensor product
+/// by `shape::tensor_product_3d` itself. Integers are carried as doubles, exactly: the
+/// quotients are checked to lie within ±2^30 (else, and when an axis has more than five
+/// candidates, the scalar code runs), so ⌊q⌋ as a double is the integer the scalar code
+/// computes and the candidates' indices are exact.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn weights_ugimp(
+    grid: &crate::grid::Grid3,
+    x: &Vector3,
+    lp: &Vector3,
+    node: &mut [u32; crate::shape::MAX_NODES_3D],
+    s: &mut [f64; crate::shape::MAX_NODES_3D],
+    g: &mut [Vector3; crate::shape::MAX_NODES_3D],
+) -> usize {
+    let v3 = |v: &Vector3, pad: f64| _mm256_setr_pd(v.x, v.y, v.z, pad);
+    let (xv, x0, h, l) = (v3(x, 0.0), v3(&grid.origin, 0.0), v3(&grid.h, 1.0), v3(lp, 0.0));
+    let cells = _mm256_setr_pd(grid.n[0] as f64, grid.n[1] as f64, grid.n[2] as f64, 0.0);
+    let one = _mm256_set1_pd(1.0);
+    // (x − reach − x₀)/h and (x + reach − x₀)/h, reach = l_p.
+    let ql = _mm256_div_pd(_mm256_sub_pd(_mm256_sub_pd(xv, l), x0), h);
+    let qh = _mm256_div_pd(_mm256_sub_pd(_mm256_add_pd(xv, l), x0), h);
+    let lim = _mm256_set1_pd((1u64 << 30) as f64);
+    let abs = |v: __m256d| _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
+    let sane = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(abs(ql), lim), _mm256_cmp_pd::<_CMP_LT_OQ>(abs(qh), lim));
+    // lo = ⌊ql⌋, hi − 1 = ⌊qh⌋; first = (lo − 1 if ql − lo < EDGE else lo) ∨ 0, last = (hi + 1
+    // if qh − (hi − 1) > 1 − EDGE else hi) ∧ n_cells, as `axis_weights` has them.
+    let lo = _mm256_floor_pd(ql);
+    let fq = _mm256_floor_pd(qh);
+    let first = _mm256_max_pd(_mm256_blendv_pd(lo, _mm256_sub_pd(lo, one), _mm256_cmp_pd::<_CMP_LT_OQ>(_mm256_sub_pd(ql, lo), _mm256_set1_pd(crate::shape::EDGE))), _mm256_setzero_pd());
+    let hi = _mm256_add_pd(fq, one);
+    let last = _mm256_min_pd(_mm256_blendv_pd(hi, _mm256_add_pd(hi, one), _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(qh, fq), _mm256_set1_pd(1.0 - crate::shape::EDGE))), cells);
+    let span = _mm256_sub_pd(last, first);
+    let few = _mm256_cmp_pd::<_CMP_LE_OQ>(span, _mm256_set1_pd(4.0));
+    if _mm256_movemask_pd(_mm256_and_pd(sane, few)) & 7 != 7 {
+        return crate::shape::weights_into_3d(grid, crate::shape::ShapeKind::Ugimp, x, lp, node, s, g);
+    }
+    // Candidates per axis: last − first + 1 ≤ 5 (integers in [−2^31, 2^31) here).
+    let mut firsts = [0i32; 4];
+    _mm_storeu_si128(firsts.as_mut_ptr() as *mut __m128i, _mm256_cvttpd_epi32(first));
+    let mut spans = [0i32; 4];
+    _mm_storeu_si128(spans.as_mut_ptr() as *mut __m128i, _mm256_cvttpd_epi32(span));
+    let candidates = (spans[0].max(spans[1]).max(spans[2]) + 1).max(0) as usize;
+    // ugimp_1d's constants: 2h·l_p, h·l_p, 4h·l_p, h − l_p, h + l_p.
+    let two_hl = _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(2.0), h), l);
+    let hl = _mm256_mul_pd(h, l);
+    let four_hl = _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(4.0), h), l);
+    let (h_minus, h_plus) = (_mm256_sub_pd(h, l), _mm256_add_pd(h, l));
+    let ll = _mm256_mul_pd(l, l);
+    // −sgn/h = ±(1/h): (±1)/h rounds as 1/h does, with the sign.
+    let inv_h = _mm256_div_pd(one, h);
+    let zero = _mm256_setzero_pd();
+    let mut sv = [[0.0; 4]; 5];
+    let mut dv = [[0.0; 4]; 5];
+    let mut keep = [0i32; 5];
+    for j in 0..candidates {
+        let i = _mm256_add_pd(first, _mm256_set1_pd(j as f64));
+        let valid = _mm256_cmp_pd::<_CMP_LE_OQ>(i, last);
+        // ξ = x − (x₀ + i·h).
+        let xi = _mm256_sub_pd(xv, _mm256_add_pd(x0, _mm256_mul_pd(i, h)));
+        let a = abs(xi);
+        let negative = _mm256_cmp_pd::<_CMP_LT_OQ>(xi, zero);
+        let neg_sgn = _mm256_blendv_pd(_mm256_set1_pd(-1.0), one, negative);
+        // a < l_p: (1 − (a² + l_p²)/(2h·l_p), −ξ/(h·l_p)).
+        let s1 = _mm256_sub_pd(one, _mm256_div_pd(_mm256_add_pd(_mm256_mul_pd(a, a), ll), two_hl));
+        let d1 = _mm256_div_pd(_mm256_xor_pd(xi, _mm256_set1_pd(-0.0)), hl);
+        // a ≤ h − l_p: (1 − a/h, −sgn/h).
+        let s2 = _mm256_sub_pd(one, _mm256_div_pd(a, h));
+        let d2 = _mm256_blendv_pd(_mm256_xor_pd(inv_h, _mm256_set1_pd(-0.0)), inv_h, negative);
+        // a < h + l_p: d = h + l_p − a, (d²/(4h·l_p), −sgn·d/(2h·l_p)).
+        let d = _mm256_sub_pd(h_plus, a);
+        let s3 = _mm256_div_pd(_mm256_mul_pd(d, d), four_hl);
+        let d3 = _mm256_div_pd(_mm256_mul_pd(neg_sgn, d), two_hl);
+        let (b1, b2, b3) = (_mm256_cmp_pd::<_CMP_LT_OQ>(a, l), _mm256_cmp_pd::<_CMP_LE_OQ>(a, h_minus), _mm256_cmp_pd::<_CMP_LT_OQ>(a, h_plus));
+        let sj = _mm256_blendv_pd(_mm256_blendv_pd(_mm256_and_pd(b3, s3), s2, b2), s1, b1);
+        let dj = _mm256_blendv_pd(_mm256_blendv_pd(_mm256_and_pd(b3, d3), d2, b2), d1, b1);
+        _mm256_storeu_pd(sv[j].as_mut_ptr(), sj);
+        _mm256_storeu_pd(dv[j].as_mut_ptr(), dj);
+        // `v.0 != 0.0` (true for NaN, as there).
+        keep[j] = _mm256_movemask_pd(_mm256_and_pd(valid, _mm256_cmp_pd::<_CMP_NEQ_UQ>(sj, zero)));
+    }
+    let mut w = [[(0.0, 0.0); 3]; 3];
+    let mut idx = [[0usize; 3]; 3];
+    let mut k = [0usize; 3];
+    for c in 0..3 {
+        let first = firsts[c] as usize;
+        for j in 0..candidates {
+            if k[c] < 3 && keep[j] & (1 << c) != 0 {
+                w[c][k[c]] = (sv[j][c], dv[j][c]);
+                idx[c][k[c]] = first + j;
+                k[c] += 1;
+            }
+        }
+    }
+    crate::shape::tensor_product_3d(grid, &w, &idx, k, node, s, g)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::Grid3;
+    use crate::shape::{weights_into_3d, ShapeKind, MAX_NODES_3D};
+
+    /// [`weights_ugimp`] gives the bits of `shape::weights_into_3d` (uGIMP): random
+    /// particles, particles on lattice positions and at the very edge of a support (the
+    /// near-integer quotients of `axis_weights`), the grid's faces, several l_p.
+    #[test]
+    fn weights_ugimp_matches_the_scalar_weights() {
+        if !crate::simd::enabled() || !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let grid = Grid3 { origin: Vector3::new(-1.0, -12.0, 0.0), h: Vector3::new(2.0, 2.0, 1.5), n: [50, 12, 8] };
+        let mut seed = 0x9e3779b97f4a7c15u64;
+        let mut uniform = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut cases = 0;
+        for round in 0..40_000 {
+            let frac = [0.25, 0.125, 1.0 / 6.0, 0.5][round % 4];
+            let lp = Vector3::new(frac * grid.h.x, frac * grid.h.y, frac * grid.h.z);
+            let mut x = Vector3::zeros();
+            for c in 0..3 {
+                let span = grid.h[c] * grid.n[c] as f64;
+                let u = uniform();
+                x[c] = match (round / 4) % 4 {
+                    // Anywhere.
+                    0 => grid.origin[c] + lp[c] + u * (span - 2.0 * lp[c]),
+                    // On a lattice position of 2 (or 1/frac/2) particles per cell.
+                    1 => grid.origin[c] + grid.h[c] * ((u * grid.n[c] as f64).floor() + frac),
+                    // At the edge of a support: node ± (h + l_p), nudged by a few ulps.
+                    2 => {
+                        let i = 1.0 + (u * (grid.n[c] - 2) as f64).floor();
+                        let e = grid.origin[c] + i * grid.h[c] + if u < 0.5 { grid.h[c] + lp[c] } else { -(grid.h[c] + lp[c]) };
+                        let k = (uniform() * 7.0) as i64 - 3;
+                        f64::from_bits((e.to_bits() as i64 + k) as u64)
+                    }
+                    // Against the grid's faces.
+                    _ => if u < 0.5 { grid.origin[c] + lp[c] } else { grid.origin[c] + span - lp[c] },
+                };
+            }
+            let (mut n1, mut s1, mut g1) = ([0u32; MAX_NODES_3D], [0.0; MAX_NODES_3D], [Vector3::zeros(); MAX_NODES_3D]);
+            let (mut n2, mut s2, mut g2) = (n1, s1, g1);
+            let k1 = weights_into_3d(&grid, ShapeKind::Ugimp, &x, &lp, &mut n1, &mut s1, &mut g1);
+            // SAFETY: the CPU has AVX2 (checked above).
+            let k2 = unsafe { weights_ugimp(&grid, &x, &lp, &mut n2, &mut s2, &mut g2) };
+            assert_eq!(k1, k2, "x = {x:?}, l_p = {lp:?}");
+            for j in 0..k1 {
+                assert_eq!(n1[j], n2[j]);
+                assert_eq!(s1[j].to_bits(), s2[j].to_bits(), "x = {x:?}, l_p = {lp:?}, node {j}");
+                for c in 0..3 {
+                    assert_eq!(g1[j][c].to_bits(), g2[j][c].to_bits(), "x = {x:?}, l_p = {lp:?}, node {j}");
+                }
+            }
+            cases += 1;
+        }
+        assert_eq!(cases, 40_000);
+    }
+}

@@ -1257,6 +1257,18 @@ mod avx2 {
 
     #[target_feature(enable = "avx2")]
     pub(super) fn weights_into<S: Space>(grid: &S::Grid, kind: ShapeKind, x: &S::Vector, lp: &S::Vector, node: &mut [u32], s: &mut [f64], g: &mut [S::Vector]) -> usize {
+        use std::any::TypeId;
+        if TypeId::of::<S>() == TypeId::of::<crate::dim::D3>() && kind == ShapeKind::Ugimp {
+            // 3D uGIMP: the 1D weights of the three axes at once (gather3::weights_ugimp, the
+            // same values as shape::weights_into_3d).
+            // SAFETY: S is D3, so its grid, vectors and slices are Grid3 and Vector3 ones.
+            unsafe {
+                let grid = &*(grid as *const S::Grid as *const crate::grid::Grid3);
+                let (x, lp) = (&*(x as *const S::Vector as *const crate::dim::Vector3), &*(lp as *const S::Vector as *const crate::dim::Vector3));
+                let g = std::slice::from_raw_parts_mut(g.as_mut_ptr() as *mut crate::dim::Vector3, g.len());
+                return crate::gather3::weights_ugimp(grid, x, lp, node.try_into().unwrap(), s.try_into().unwrap(), g.try_into().unwrap());
+            }
+        }
         S::weights_into(grid, kind, x, lp, node, s, g)
     }
 }
