@@ -748,7 +748,75 @@ pub(crate) unsafe fn weights_ugimp(
             }
         }
     }
-    crate::shape::tensor_product_3d(grid, &w, &idx, k, node, s, g)
+    tensor_product(grid, &w, &idx, k, node, s, g)
+}
+
+/// `shape::tensor_product_3d` with each x-run of up to three nodes as one vector: the
+/// same products in the same grouping, S = (Sx·Sy)·Sz and G = ((S'x·Sy)·Sz, (Sx·S'y)·Sz,
+/// (Sx·Sy)·S'z), lane by lane, so the same bits (`tests::weights_ugimp_matches_the_scalar_weights`).
+/// The run's S and its G (interleaved x, y, z per node by shuffles) are written with
+/// masked stores, which touch only the run's own entries.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn tensor_product(
+    grid: &crate::grid::Grid3,
+    w: &[[(f64, f64); 3]; 3],
+    idx: &[[usize; 3]; 3],
+    k: [usize; 3],
+    node: &mut [u32; crate::shape::MAX_NODES_3D],
+    s: &mut [f64; crate::shape::MAX_NODES_3D],
+    g: &mut [Vector3; crate::shape::MAX_NODES_3D],
+) -> usize {
+    let (sy_stride, sz_stride) = (grid.n[0] + 1, (grid.n[0] + 1) * (grid.n[1] + 1));
+    let (kx, ky, kz) = (k[0].min(3), k[1].min(3), k[2].min(3));
+    if kx == 0 {
+        return 0;
+    }
+    let sx = _mm256_setr_pd(w[0][0].0, w[0][1].0, w[0][2].0, 0.0);
+    let dx = _mm256_setr_pd(w[0][0].1, w[0][1].1, w[0][2].1, 0.0);
+    // The lanes below c (c ≤ 0: none, c ≥ 4: all).
+    let below = |c: i64| _mm256_cmpgt_epi64(_mm256_set1_epi64x(c), _mm256_setr_epi64x(0, 1, 2, 3));
+    let m_s = below(kx as i64);
+    let m_g = [0, 1, 2].map(|j| below(3 * kx as i64 - 4 * j));
+    let (sp, gp) = (s.as_mut_ptr(), g.as_mut_ptr() as *mut f64);
+    let mut n = 0;
+    for cz in 0..kz {
+        let (sz, dz) = w[2][cz];
+        let (sz, dz) = (_mm256_set1_pd(sz), _mm256_set1_pd(dz));
+        let zbase = idx[2][cz] * sz_stride;
+        for b in 0..ky {
+            let (sy, dy) = w[1][b];
+            let (sy, dy) = (_mm256_set1_pd(sy), _mm256_set1_pd(dy));
+            let base = zbase + idx[1][b] * sy_stride;
+            for a in 0..kx {
+                node[n + a] = (base + idx[0][a]) as u32;
+            }
+            let sxy = _mm256_mul_pd(sx, sy);
+            let gx = _mm256_mul_pd(_mm256_mul_pd(dx, sy), sz);
+            let gy = _mm256_mul_pd(_mm256_mul_pd(sx, dy), sz);
+            let gz = _mm256_mul_pd(sxy, dz);
+            // n + kx ≤ 27 entries of S, 3(n + kx) ≤ 81 doubles of G: the masked lanes stay
+            // inside the particle's stride.
+            _mm256_maskstore_pd(sp.add(n), m_s, _mm256_mul_pd(sxy, sz));
+            let t0 = _mm256_unpacklo_pd(gx, gy); // x0 y0 x2 y2
+            let t1 = _mm256_unpackhi_pd(gx, gy); // x1 y1 x3 y3
+            let u = _mm256_unpacklo_pd(gz, t1); // z0 x1 z2 x3
+            let v = _mm256_unpackhi_pd(t1, gz); // y1 z1 y3 z3
+            let out = [
+                _mm256_permute2f128_pd::<0x20>(t0, u), // x0 y0 z0 x1
+                _mm256_permute2f128_pd::<0x30>(v, t0), // y1 z1 x2 y2
+                _mm256_permute2f128_pd::<0x01>(gz, gz), // z2 …
+            ];
+            for j in 0..3 {
+                // Only vectors with a lane to write (so the pointer stays inside the array).
+                if 3 * kx > 4 * j {
+                    _mm256_maskstore_pd(gp.add(3 * n + 4 * j), m_g[j], out[j]);
+                }
+            }
+            n += kx;
+        }
+    }
+    n
 }
 
 #[cfg(test)]
