@@ -103,9 +103,9 @@ impl Add4 for ExactLanes {
     unsafe fn add(&mut self, x: __m256d) {
         let mut v = [0.0; 4];
         _mm256_storeu_pd(v.as_mut_ptr(), x);
-        for k in 0..4 {
-            if self.open[k] {
-                self.exact[k].add(v[k]);
+        for ((e, &open), &x) in self.exact.iter_mut().zip(&self.open).zip(&v) {
+            if open {
+                e.add(x);
             }
         }
     }
