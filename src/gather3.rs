@@ -25,6 +25,7 @@
 #![cfg(target_arch = "x86_64")]
 
 use crate::dim::{Sym3, Tensor3, Vector3, D3};
+use crate::exact::ExactSum;
 use crate::grid::MAX_FIELDS;
 use crate::simulation::{Dimension, Simulation};
 use crate::step::{NodeForce, NodeMass};
@@ -52,13 +53,62 @@ pub(crate) fn same<A: 'static + Copy, B: 'static + Copy>(x: A) -> B {
     unsafe { std::mem::transmute_copy(&x) }
 }
 
-/// Four lanes of a certified compensated sum.
-pub(crate) trait Sum4: Copy {
-    unsafe fn new() -> Self;
+/// Something that takes the four lanes of a gather's terms, one `__m256d` per pair.
+pub(crate) trait Add4 {
     unsafe fn add(&mut self, x: __m256d);
-    /// The certified sums of the first `lanes` lanes of each accumulator in `acc` (n
-    /// terms each), or None if one of them is not certified.
-    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Self; V]) -> Option<[[f64; 4]; V]>;
+}
+
+/// Four lanes of a certified compensated sum.
+pub(crate) trait Sum4: Copy + Add4 {
+    unsafe fn new() -> Self;
+    /// The sums of the first `lanes` lanes of `acc` (n terms) as far as they are
+    /// certified: `Ok` if all are, else the certified ones and which they are
+    /// ([`Uncertified`], for [`ExactLanes`] to complete).
+    unsafe fn lanes(n: usize, lanes: usize, acc: &Self) -> Result<[f64; 4], Uncertified>;
+}
+
+/// The lanes of a node gather that its certified sums left open: the sums of the lanes
+/// that are certified (the correctly rounded ones), and which those are (bit k: lane k).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Uncertified {
+    sums: [f64; 4],
+    ok: i32,
+}
+
+/// The last resort of the 3D node gathers: the lanes that neither [`Acc4`] nor [`Acc4x3`]
+/// certified (`Uncertified`), summed with [`ExactSum`] over the same terms; the other
+/// lanes keep their certified sums. Every lane is then the correctly rounded sum, as
+/// `exact::Rerun` gives it (which runs the generic gather again with three-level sums and
+/// kept terms for every lane, and sums the lanes those do not certify exactly), so the
+/// bits are the same; only the lanes left open pay for the exact sum.
+struct ExactLanes {
+    open: [bool; 4],
+    sums: [f64; 4],
+    exact: [ExactSum; 4],
+}
+
+impl ExactLanes {
+    fn new(u: Uncertified) -> Self {
+        ExactLanes { open: std::array::from_fn(|k| u.ok & (1 << k) == 0), sums: u.sums, exact: std::array::from_fn(|_| ExactSum::new()) }
+    }
+
+    /// Every lane's correctly rounded sum.
+    fn finish(&self) -> [f64; 4] {
+        std::array::from_fn(|k| if self.open[k] { self.exact[k].value() } else { self.sums[k] })
+    }
+}
+
+impl Add4 for ExactLanes {
+    #[inline(always)]
+    unsafe fn add(&mut self, x: __m256d) {
+        let mut v = [0.0; 4];
+        _mm256_storeu_pd(v.as_mut_ptr(), x);
+        for ((e, &open), &x) in self.exact.iter_mut().zip(&self.open).zip(&v) {
+            if open {
+                e.add(x);
+            }
+        }
+    }
 }
 
 /// Four lanes of [`crate::exact::FastSum`]: running sum, compensation, Σ|x|, min |x|.
@@ -70,12 +120,7 @@ pub(crate) struct Acc4 {
     m: __m256d,
 }
 
-impl Sum4 for Acc4 {
-    #[inline(always)]
-    unsafe fn new() -> Self {
-        Acc4 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
-    }
-
+impl Add4 for Acc4 {
     /// `FastSum::add` on four lanes: the same operations in the same order.
     #[inline(always)]
     unsafe fn add(&mut self, x: __m256d) {
@@ -85,8 +130,41 @@ impl Sum4 for Acc4 {
         // minpd(ax, m) = ax < m ? ax : m, the select of FastSum::add (m kept for a NaN ax).
         self.m = _mm256_min_pd(ax, self.m);
     }
+}
 
-    /// As `FastSum::certified` gives them ([`certify4`]).
+impl Sum4 for Acc4 {
+    #[inline(always)]
+    unsafe fn new() -> Self {
+        Acc4 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
+    }
+
+    /// As `FastSum::certified` gives them ([`certify4`]), lane by lane.
+    #[inline(always)]
+    unsafe fn lanes(n: usize, lanes: usize, acc: &Acc4) -> Result<[f64; 4], Uncertified> {
+        let want = (1 << lanes) - 1;
+        let mut out = [0.0; 4];
+        let ok = if n == 0 {
+            want
+        } else if n > 1 << 20 {
+            0
+        } else {
+            let nf = n as f64;
+            let (sum, mask) = certify4(acc, _mm256_set1_pd(nf * nf));
+            _mm256_storeu_pd(out.as_mut_ptr(), sum);
+            mask & want
+        };
+        if ok == want {
+            Ok(out)
+        } else {
+            Err(Uncertified { sums: out, ok: ok | !want })
+        }
+    }
+}
+
+impl Acc4 {
+    /// The certified sums of the first `lanes` lanes of each accumulator in `acc` (n
+    /// terms each) as `FastSum::certified` gives them ([`certify4`]), or None if one of
+    /// them is not certified.
     #[inline(always)]
     unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4; V]) -> Option<[[f64; 4]; V]> {
         let mut out = [[0.0; 4]; V];
@@ -121,12 +199,7 @@ pub(crate) struct Acc4x3 {
     m: __m256d,
 }
 
-impl Sum4 for Acc4x3 {
-    #[inline(always)]
-    unsafe fn new() -> Self {
-        Acc4x3 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), d: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
-    }
-
+impl Add4 for Acc4x3 {
     #[inline(always)]
     unsafe fn add(&mut self, x: __m256d) {
         let s0 = self.s;
@@ -145,22 +218,34 @@ impl Sum4 for Acc4x3 {
         let take = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(ax, self.m), _mm256_cmp_pd::<_CMP_NEQ_UQ>(ax, _mm256_setzero_pd()));
         self.m = _mm256_blendv_pd(self.m, ax, take);
     }
+}
+
+impl Sum4 for Acc4x3 {
+    #[inline(always)]
+    unsafe fn new() -> Self {
+        Acc4x3 { s: _mm256_set1_pd(-0.0), c: _mm256_setzero_pd(), d: _mm256_setzero_pd(), a: _mm256_setzero_pd(), m: _mm256_set1_pd(f64::INFINITY) }
+    }
 
     /// `FastSum3::certified`, lane by lane (`certify`, else `certify3`).
     #[inline(always)]
-    unsafe fn certified<const V: usize>(n: usize, lanes: usize, acc: &[Acc4x3; V]) -> Option<[[f64; 4]; V]> {
-        let mut out = [[0.0; 4]; V];
-        for (o, x) in out.iter_mut().zip(acc) {
-            let mut p = [[0.0; 4]; 5];
-            for (q, v) in p.iter_mut().zip([x.s, x.c, x.d, x.a, x.m]) {
-                _mm256_storeu_pd(q.as_mut_ptr(), v);
-            }
-            for k in 0..lanes {
-                let n = n as u32;
-                o[k] = crate::exact::certify(p[0][k], p[1][k], p[3][k], p[4][k], n).or_else(|| crate::exact::certify3(p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], n))?;
+    unsafe fn lanes(n: usize, lanes: usize, x: &Acc4x3) -> Result<[f64; 4], Uncertified> {
+        let mut p = [[0.0; 4]; 5];
+        for (q, v) in p.iter_mut().zip([x.s, x.c, x.d, x.a, x.m]) {
+            _mm256_storeu_pd(q.as_mut_ptr(), v);
+        }
+        let (mut out, mut ok) = ([0.0; 4], !((1 << lanes) - 1));
+        let n = n as u32;
+        for (k, o) in out.iter_mut().enumerate().take(lanes) {
+            if let Some(v) = crate::exact::certify(p[0][k], p[1][k], p[3][k], p[4][k], n).or_else(|| crate::exact::certify3(p[0][k], p[1][k], p[2][k], p[3][k], p[4][k], n)) {
+                *o = v;
+                ok |= 1 << k;
             }
         }
-        Some(out)
+        if ok == -1 {
+            Ok(out)
+        } else {
+            Err(Uncertified { sums: out, ok })
+        }
     }
 }
 
@@ -234,55 +319,82 @@ pub(crate) fn fill_stress_columns(sim: &Simulation<D3>, out: &mut Vec<[[f64; 4];
 /// [`node_momentum`] share.
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn mass_momentum_sum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> (A, usize) {
+unsafe fn mass_momentum_sum<A: Add4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize, acc: &mut A) -> usize {
     let pairs = &sim.pairs;
     let items = pairs.of_active(a);
     let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
-    let mut acc = A::new();
     let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
     for (&item, &pp) in items.iter().zip(owner) {
         let (item, pp) = (item as usize, pp as usize);
         debug_assert!(item < pairs.s.len() && pp == item / 27 && pp < sim.particles.len());
         acc.add(_mm256_mul_pd(_mm256_loadu_pd((*mv.add(pp)).as_ptr()), _mm256_broadcast_sd(&*s.add(item))));
     }
-    (acc, items.len())
+    items.len()
 }
 
 /// `node_mass::<Fast, false, false>` of the active node `a`, from the factors of
-/// [`fill_mass_momentum`]: lanes (m·S, (m·v)·S).
+/// [`fill_mass_momentum`]: lanes (m·S, (m·v)·S). `Err`: the lanes `A` left open, for
+/// [`node_mass_exact`].
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<NodeMass<Vector3>> {
-    let (acc, n) = mass_momentum_sum::<A>(sim, mv, a);
-    let [l] = A::certified(n, 4, &[acc])?;
+pub(crate) unsafe fn node_mass<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Result<NodeMass<Vector3>, Uncertified> {
+    let mut acc = A::new();
+    let n = mass_momentum_sum(sim, mv, a, &mut acc);
+    Ok(mass_out(n, A::lanes(n, 4, &acc)?))
+}
+
+/// [`node_mass`] completed: the lanes `u` left open summed exactly ([`ExactLanes`]).
+#[cold]
+#[inline(never)]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_mass_exact(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize, u: Uncertified) -> NodeMass<Vector3> {
+    let mut acc = ExactLanes::new(u);
+    let n = mass_momentum_sum(sim, mv, a, &mut acc);
+    mass_out(n, acc.finish())
+}
+
+#[inline(always)]
+fn mass_out(n: usize, l: [f64; 4]) -> NodeMass<Vector3> {
     let mut out = NodeMass { present: if n == 0 { 0 } else { 1 }, ..Default::default() };
     out.mass[0] = l[0];
     out.mom[0] = Vector3::new(l[1], l[2], l[3]);
     out.volume = f64::NAN;
-    Some(out)
+    out
 }
 
 /// `node_momentum::<Fast, false>` of the active node `a`: lanes (m·v)·S, from the factors
-/// of [`fill_mass_momentum`] (the mass lane is formed and left unread).
+/// of [`fill_mass_momentum`] (the mass lane is formed and left unread). `Err`: the lanes `A` left open, for [`node_momentum_exact`].
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_momentum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Option<[Vector3; MAX_FIELDS]> {
-    let (acc, n) = mass_momentum_sum::<A>(sim, mv, a);
+pub(crate) unsafe fn node_momentum<A: Sum4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize) -> Result<[Vector3; MAX_FIELDS], Uncertified> {
+    let mut acc = A::new();
+    let n = mass_momentum_sum(sim, mv, a, &mut acc);
     let mut out = [Vector3::zeros(); MAX_FIELDS];
     if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
-        let [l] = A::certified(n, 4, &[acc])?;
+        let l = A::lanes(n, 4, &acc)?;
         out[0] = Vector3::new(l[1], l[2], l[3]);
     }
-    Some(out)
+    Ok(out)
 }
 
-/// `node_forces::<Fast, false>` of the active node `a` at a node without external force
-/// terms: lanes (−V)·(σ·G), σ·G = (σ_x G_x + σ_y G_y) + σ_z G_z by columns, from the
-/// factors of [`fill_stress_columns`]; the external force +0.
+/// [`node_momentum`] completed: the lanes `u` left open summed exactly ([`ExactLanes`]).
+#[cold]
+#[inline(never)]
 #[target_feature(enable = "avx2")]
-pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize) -> Option<NodeForce<Vector3>> {
+pub(crate) unsafe fn node_momentum_exact(sim: &Simulation<D3>, mv: &[[f64; 4]], a: usize, u: Uncertified) -> [Vector3; MAX_FIELDS] {
+    let mut acc = ExactLanes::new(u);
+    mass_momentum_sum(sim, mv, a, &mut acc);
+    let l = acc.finish();
+    let mut out = [Vector3::zeros(); MAX_FIELDS];
+    out[0] = Vector3::new(l[1], l[2], l[3]);
+    out
+}
+
+/// The terms of [`node_forces`] into `acc`; returns their number.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn forces_sum<A: Add4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize, acc: &mut A) -> usize {
     let pairs = &sim.pairs;
     let items = pairs.of_active(a);
     let (g, cols) = (pairs.g.as_ptr() as *const f64, cols.as_ptr());
-    let mut acc = A::new();
     let owner = sim.scratch.item_particle[pairs.start[a] as usize..pairs.start[a + 1] as usize].iter();
     for (&item, &pp) in items.iter().zip(owner) {
         let (item, pp) = (item as usize, pp as usize);
@@ -295,19 +407,40 @@ pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4
         );
         acc.add(_mm256_mul_pd(_mm256_loadu_pd(c[3].as_ptr()), t));
     }
+    items.len()
+}
+
+/// `node_forces::<Fast, false>` of the active node `a` at a node without external force
+/// terms: lanes (−V)·(σ·G), σ·G = (σ_x G_x + σ_y G_y) + σ_z G_z by columns, from the
+/// factors of [`fill_stress_columns`]; the external force +0. `Err`: the lanes `A` left
+/// open, for [`node_forces_exact`].
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_forces<A: Sum4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize) -> Result<NodeForce<Vector3>, Uncertified> {
+    let mut acc = A::new();
+    let n = forces_sum(sim, cols, a, &mut acc);
     let mut out = NodeForce::default();
     if sim.nodes.present[sim.nodes.active[a] as usize] & 1 != 0 {
-        let [l] = A::certified(items.len(), 3, &[acc])?;
+        let l = A::lanes(n, 3, &acc)?;
         out.fint[0] = Vector3::new(l[0], l[1], l[2]);
         out.fext[0] = Vector3::zeros();
     }
-    Some(out)
+    Ok(out)
 }
 
-/// Four lanes of a compensated sum without [`Acc4`]'s Σ|x| and min |x|: running sum and
-/// compensation only (the same TwoSum and compensation operations as `FastSum::add`, so
-/// the same s and c). [`velocity_gradient`] certifies it with bounds of Σ|x| and min |x|
-/// formed from the factors of its terms.
+/// [`node_forces`] completed: the lanes `u` left open summed exactly ([`ExactLanes`]).
+#[cold]
+#[inline(never)]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn node_forces_exact(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: usize, u: Uncertified) -> NodeForce<Vector3> {
+    let mut acc = ExactLanes::new(u);
+    forces_sum(sim, cols, a, &mut acc);
+    let l = acc.finish();
+    let mut out = NodeForce::default();
+    out.fint[0] = Vector3::new(l[0], l[1], l[2]);
+    out.fext[0] = Vector3::zeros();
+    out
+}
+
 #[derive(Clone, Copy)]
 struct Acc4sc {
     s: __m256d,
@@ -401,6 +534,60 @@ pub(crate) unsafe fn velocity_gradient(sim: &Simulation<D3>, i: usize) -> Option
     }
 }
 
+/// The terms v_r ⊗ G of row r of [`velocity_gradient`] (lanes b = 0..2: v_r·G_b, the
+/// products of the generic gather) into `acc`, for each row r that has one; returns the
+/// number of pairs.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn velocity_gradient_rows<A: Add4>(sim: &Simulation<D3>, i: usize, acc: &mut [Option<A>; 3]) -> usize {
+    let pairs = &sim.pairs;
+    let vel = sim.nodes.fields[0].vel.as_ptr() as *const f64;
+    let (node, g) = (pairs.node.as_ptr(), pairs.g.as_ptr() as *const f64);
+    let k = pairs.of_particle(i);
+    for k in k.clone() {
+        let n = *node.add(k) as usize;
+        debug_assert!(n < sim.nodes.fields[0].vel.len());
+        let gv = load3(g.add(3 * k));
+        let v = vel.add(3 * n);
+        for (r, a) in acc.iter_mut().enumerate() {
+            if let Some(a) = a {
+                a.add(_mm256_mul_pd(_mm256_broadcast_sd(&*v.add(r)), gv));
+            }
+        }
+    }
+    k.len()
+}
+
+/// [`velocity_gradient`] when neither of its certifications holds: the rows with
+/// three-level sums ([`Acc4x3`], certificates `certify` and `certify3` on Σ|x| and the
+/// smallest non-zero |x| themselves), and the lanes those leave open summed exactly
+/// ([`ExactLanes`]) — what the generic gather's rerun with `exact::Rerun` gives, the
+/// correctly rounded sums, without its kept terms and three-level sums of all 12 lanes.
+#[cold]
+#[inline(never)]
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn velocity_gradient_exact(sim: &Simulation<D3>, i: usize) -> Tensor3 {
+    let mut acc = [Some(Acc4x3::new()); 3];
+    let n = velocity_gradient_rows(sim, i, &mut acc);
+    let mut open: [Option<ExactLanes>; 3] = [None, None, None];
+    let mut t = [[0.0; 4]; 3];
+    for r in 0..3 {
+        match Acc4x3::lanes(n, 3, acc[r].as_ref().unwrap()) {
+            Ok(l) => t[r] = l,
+            Err(u) => open[r] = Some(ExactLanes::new(u)),
+        }
+    }
+    if open.iter().any(Option::is_some) {
+        velocity_gradient_rows(sim, i, &mut open);
+        for (tr, o) in t.iter_mut().zip(&open) {
+            if let Some(o) = o {
+                *tr = o.finish();
+            }
+        }
+    }
+    Tensor3::from_fn(|a, b| t[a][b])
+}
+
 /// [`velocity_gradient`]'s certificates with the bound a' = fl(V_a·S_b) per row a (`vmax`
 /// holds V, `gsum` S) and the lower bounds m' of min |x| in `m` (one vector per row).
 #[inline(always)]
@@ -460,4 +647,237 @@ pub(crate) unsafe fn particle_increments(sim: &Simulation<D3>, i: usize) -> Opti
     }
     let [v, w] = Acc4::certified(k.len(), 3, &acc)?;
     Some((Vector3::new(v[0], v[1], v[2]), Vector3::new(w[0], w[1], w[2])))
+}
+
+/// The uGIMP weights of a 3D particle ([`crate::shape::weights_into_3d`] with
+/// `ShapeKind::Ugimp`), its 1D part on the three axes at once: the candidate nodes of
+/// `shape::axis_weights` (⌊(x ∓ l_p − x₀)/h⌋ with the neighbours of near-integer
+/// quotients, clipped to the grid) and `shape::ugimp_1d` at each of them, its three
+/// branches as selects (the same expressions on the same operands, so the same values),
+/// then the first three non-zero weights per axis in node order, and the tensor product
+/// by `shape::tensor_product_3d` itself. Integers are carried as doubles, exactly: the
+/// quotients are checked to lie within ±2^30 (else, and when an axis has more than five
+/// candidates, the scalar code runs), so ⌊q⌋ as a double is the integer the scalar code
+/// computes and the candidates' indices are exact.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn weights_ugimp(
+    grid: &crate::grid::Grid3,
+    x: &Vector3,
+    lp: &Vector3,
+    node: &mut [u32; crate::shape::MAX_NODES_3D],
+    s: &mut [f64; crate::shape::MAX_NODES_3D],
+    g: &mut [Vector3; crate::shape::MAX_NODES_3D],
+) -> usize {
+    let v3 = |v: &Vector3, pad: f64| _mm256_setr_pd(v.x, v.y, v.z, pad);
+    let (xv, x0, h, l) = (v3(x, 0.0), v3(&grid.origin, 0.0), v3(&grid.h, 1.0), v3(lp, 0.0));
+    let cells = _mm256_setr_pd(grid.n[0] as f64, grid.n[1] as f64, grid.n[2] as f64, 0.0);
+    let one = _mm256_set1_pd(1.0);
+    // (x − reach − x₀)/h and (x + reach − x₀)/h, reach = l_p.
+    let ql = _mm256_div_pd(_mm256_sub_pd(_mm256_sub_pd(xv, l), x0), h);
+    let qh = _mm256_div_pd(_mm256_sub_pd(_mm256_add_pd(xv, l), x0), h);
+    let lim = _mm256_set1_pd((1u64 << 30) as f64);
+    let abs = |v: __m256d| _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
+    let sane = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(abs(ql), lim), _mm256_cmp_pd::<_CMP_LT_OQ>(abs(qh), lim));
+    // lo = ⌊ql⌋, hi − 1 = ⌊qh⌋; first = (lo − 1 if ql − lo < EDGE else lo) ∨ 0, last = (hi + 1
+    // if qh − (hi − 1) > 1 − EDGE else hi) ∧ n_cells, as `axis_weights` has them.
+    let lo = _mm256_floor_pd(ql);
+    let fq = _mm256_floor_pd(qh);
+    let first = _mm256_max_pd(_mm256_blendv_pd(lo, _mm256_sub_pd(lo, one), _mm256_cmp_pd::<_CMP_LT_OQ>(_mm256_sub_pd(ql, lo), _mm256_set1_pd(crate::shape::EDGE))), _mm256_setzero_pd());
+    let hi = _mm256_add_pd(fq, one);
+    let last = _mm256_min_pd(_mm256_blendv_pd(hi, _mm256_add_pd(hi, one), _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(qh, fq), _mm256_set1_pd(1.0 - crate::shape::EDGE))), cells);
+    let span = _mm256_sub_pd(last, first);
+    let few = _mm256_cmp_pd::<_CMP_LE_OQ>(span, _mm256_set1_pd(4.0));
+    if _mm256_movemask_pd(_mm256_and_pd(sane, few)) & 7 != 7 {
+        return crate::shape::weights_into_3d(grid, crate::shape::ShapeKind::Ugimp, x, lp, node, s, g);
+    }
+    // Candidates per axis: last − first + 1 ≤ 5 (integers in [−2^31, 2^31) here).
+    let mut firsts = [0i32; 4];
+    _mm_storeu_si128(firsts.as_mut_ptr() as *mut __m128i, _mm256_cvttpd_epi32(first));
+    let mut spans = [0i32; 4];
+    _mm_storeu_si128(spans.as_mut_ptr() as *mut __m128i, _mm256_cvttpd_epi32(span));
+    let candidates = (spans[0].max(spans[1]).max(spans[2]) + 1).max(0) as usize;
+    // ugimp_1d's constants: 2h·l_p, h·l_p, 4h·l_p, h − l_p, h + l_p.
+    let two_hl = _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(2.0), h), l);
+    let hl = _mm256_mul_pd(h, l);
+    let four_hl = _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(4.0), h), l);
+    let (h_minus, h_plus) = (_mm256_sub_pd(h, l), _mm256_add_pd(h, l));
+    let ll = _mm256_mul_pd(l, l);
+    // −sgn/h = ±(1/h): (±1)/h rounds as 1/h does, with the sign.
+    let inv_h = _mm256_div_pd(one, h);
+    let zero = _mm256_setzero_pd();
+    let mut sv = [[0.0; 4]; 5];
+    let mut dv = [[0.0; 4]; 5];
+    let mut keep = [0i32; 5];
+    for j in 0..candidates {
+        let i = _mm256_add_pd(first, _mm256_set1_pd(j as f64));
+        let valid = _mm256_cmp_pd::<_CMP_LE_OQ>(i, last);
+        // ξ = x − (x₀ + i·h).
+        let xi = _mm256_sub_pd(xv, _mm256_add_pd(x0, _mm256_mul_pd(i, h)));
+        let a = abs(xi);
+        let negative = _mm256_cmp_pd::<_CMP_LT_OQ>(xi, zero);
+        let neg_sgn = _mm256_blendv_pd(_mm256_set1_pd(-1.0), one, negative);
+        // a < l_p: (1 − (a² + l_p²)/(2h·l_p), −ξ/(h·l_p)).
+        let s1 = _mm256_sub_pd(one, _mm256_div_pd(_mm256_add_pd(_mm256_mul_pd(a, a), ll), two_hl));
+        let d1 = _mm256_div_pd(_mm256_xor_pd(xi, _mm256_set1_pd(-0.0)), hl);
+        // a ≤ h − l_p: (1 − a/h, −sgn/h).
+        let s2 = _mm256_sub_pd(one, _mm256_div_pd(a, h));
+        let d2 = _mm256_blendv_pd(_mm256_xor_pd(inv_h, _mm256_set1_pd(-0.0)), inv_h, negative);
+        // a < h + l_p: d = h + l_p − a, (d²/(4h·l_p), −sgn·d/(2h·l_p)).
+        let d = _mm256_sub_pd(h_plus, a);
+        let s3 = _mm256_div_pd(_mm256_mul_pd(d, d), four_hl);
+        let d3 = _mm256_div_pd(_mm256_mul_pd(neg_sgn, d), two_hl);
+        let (b1, b2, b3) = (_mm256_cmp_pd::<_CMP_LT_OQ>(a, l), _mm256_cmp_pd::<_CMP_LE_OQ>(a, h_minus), _mm256_cmp_pd::<_CMP_LT_OQ>(a, h_plus));
+        let sj = _mm256_blendv_pd(_mm256_blendv_pd(_mm256_and_pd(b3, s3), s2, b2), s1, b1);
+        let dj = _mm256_blendv_pd(_mm256_blendv_pd(_mm256_and_pd(b3, d3), d2, b2), d1, b1);
+        _mm256_storeu_pd(sv[j].as_mut_ptr(), sj);
+        _mm256_storeu_pd(dv[j].as_mut_ptr(), dj);
+        // `v.0 != 0.0` (true for NaN, as there).
+        keep[j] = _mm256_movemask_pd(_mm256_and_pd(valid, _mm256_cmp_pd::<_CMP_NEQ_UQ>(sj, zero)));
+    }
+    let mut w = [[(0.0, 0.0); 3]; 3];
+    let mut idx = [[0usize; 3]; 3];
+    let mut k = [0usize; 3];
+    for c in 0..3 {
+        let first = firsts[c] as usize;
+        for j in 0..candidates {
+            if k[c] < 3 && keep[j] & (1 << c) != 0 {
+                w[c][k[c]] = (sv[j][c], dv[j][c]);
+                idx[c][k[c]] = first + j;
+                k[c] += 1;
+            }
+        }
+    }
+    tensor_product(grid, &w, &idx, k, node, s, g)
+}
+
+/// `shape::tensor_product_3d` with each x-run of up to three nodes as one vector: the
+/// same products in the same grouping, S = (Sx·Sy)·Sz and G = ((S'x·Sy)·Sz, (Sx·S'y)·Sz,
+/// (Sx·Sy)·S'z), lane by lane, so the same bits (`tests::weights_ugimp_matches_the_scalar_weights`).
+/// The run's S and its G (interleaved x, y, z per node by shuffles) are written with
+/// masked stores, which touch only the run's own entries.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn tensor_product(
+    grid: &crate::grid::Grid3,
+    w: &[[(f64, f64); 3]; 3],
+    idx: &[[usize; 3]; 3],
+    k: [usize; 3],
+    node: &mut [u32; crate::shape::MAX_NODES_3D],
+    s: &mut [f64; crate::shape::MAX_NODES_3D],
+    g: &mut [Vector3; crate::shape::MAX_NODES_3D],
+) -> usize {
+    let (sy_stride, sz_stride) = (grid.n[0] + 1, (grid.n[0] + 1) * (grid.n[1] + 1));
+    let (kx, ky, kz) = (k[0].min(3), k[1].min(3), k[2].min(3));
+    if kx == 0 {
+        return 0;
+    }
+    let sx = _mm256_setr_pd(w[0][0].0, w[0][1].0, w[0][2].0, 0.0);
+    let dx = _mm256_setr_pd(w[0][0].1, w[0][1].1, w[0][2].1, 0.0);
+    // The lanes below c (c ≤ 0: none, c ≥ 4: all).
+    let below = |c: i64| _mm256_cmpgt_epi64(_mm256_set1_epi64x(c), _mm256_setr_epi64x(0, 1, 2, 3));
+    let m_s = below(kx as i64);
+    let m_g = [0, 1, 2].map(|j| below(3 * kx as i64 - 4 * j));
+    let (sp, gp) = (s.as_mut_ptr(), g.as_mut_ptr() as *mut f64);
+    let mut n = 0;
+    for cz in 0..kz {
+        let (sz, dz) = w[2][cz];
+        let (sz, dz) = (_mm256_set1_pd(sz), _mm256_set1_pd(dz));
+        let zbase = idx[2][cz] * sz_stride;
+        for b in 0..ky {
+            let (sy, dy) = w[1][b];
+            let (sy, dy) = (_mm256_set1_pd(sy), _mm256_set1_pd(dy));
+            let base = zbase + idx[1][b] * sy_stride;
+            for a in 0..kx {
+                node[n + a] = (base + idx[0][a]) as u32;
+            }
+            let sxy = _mm256_mul_pd(sx, sy);
+            let gx = _mm256_mul_pd(_mm256_mul_pd(dx, sy), sz);
+            let gy = _mm256_mul_pd(_mm256_mul_pd(sx, dy), sz);
+            let gz = _mm256_mul_pd(sxy, dz);
+            // n + kx ≤ 27 entries of S, 3(n + kx) ≤ 81 doubles of G: the masked lanes stay
+            // inside the particle's stride.
+            _mm256_maskstore_pd(sp.add(n), m_s, _mm256_mul_pd(sxy, sz));
+            let t0 = _mm256_unpacklo_pd(gx, gy); // x0 y0 x2 y2
+            let t1 = _mm256_unpackhi_pd(gx, gy); // x1 y1 x3 y3
+            let u = _mm256_unpacklo_pd(gz, t1); // z0 x1 z2 x3
+            let v = _mm256_unpackhi_pd(t1, gz); // y1 z1 y3 z3
+            let out = [
+                _mm256_permute2f128_pd::<0x20>(t0, u), // x0 y0 z0 x1
+                _mm256_permute2f128_pd::<0x30>(v, t0), // y1 z1 x2 y2
+                _mm256_permute2f128_pd::<0x01>(gz, gz), // z2 …
+            ];
+            for j in 0..3 {
+                // Only vectors with a lane to write (so the pointer stays inside the array).
+                if 3 * kx > 4 * j {
+                    _mm256_maskstore_pd(gp.add(3 * n + 4 * j), m_g[j], out[j]);
+                }
+            }
+            n += kx;
+        }
+    }
+    n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::Grid3;
+    use crate::shape::{weights_into_3d, ShapeKind, MAX_NODES_3D};
+
+    /// [`weights_ugimp`] gives the bits of `shape::weights_into_3d` (uGIMP): random
+    /// particles, particles on lattice positions and at the very edge of a support (the
+    /// near-integer quotients of `axis_weights`), the grid's faces, several l_p.
+    #[test]
+    fn weights_ugimp_matches_the_scalar_weights() {
+        if !crate::simd::enabled() || !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let grid = Grid3 { origin: Vector3::new(-1.0, -12.0, 0.0), h: Vector3::new(2.0, 2.0, 1.5), n: [50, 12, 8] };
+        let mut seed = 0x9e3779b97f4a7c15u64;
+        let mut uniform = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut cases = 0;
+        for round in 0..40_000 {
+            let frac = [0.25, 0.125, 1.0 / 6.0, 0.5][round % 4];
+            let lp = Vector3::new(frac * grid.h.x, frac * grid.h.y, frac * grid.h.z);
+            let mut x = Vector3::zeros();
+            for c in 0..3 {
+                let span = grid.h[c] * grid.n[c] as f64;
+                let u = uniform();
+                x[c] = match (round / 4) % 4 {
+                    // Anywhere.
+                    0 => grid.origin[c] + lp[c] + u * (span - 2.0 * lp[c]),
+                    // On a lattice position of 2 (or 1/frac/2) particles per cell.
+                    1 => grid.origin[c] + grid.h[c] * ((u * grid.n[c] as f64).floor() + frac),
+                    // At the edge of a support: node ± (h + l_p), nudged by a few ulps.
+                    2 => {
+                        let i = 1.0 + (u * (grid.n[c] - 2) as f64).floor();
+                        let e = grid.origin[c] + i * grid.h[c] + if u < 0.5 { grid.h[c] + lp[c] } else { -(grid.h[c] + lp[c]) };
+                        let k = (uniform() * 7.0) as i64 - 3;
+                        f64::from_bits((e.to_bits() as i64 + k) as u64)
+                    }
+                    // Against the grid's faces.
+                    _ => if u < 0.5 { grid.origin[c] + lp[c] } else { grid.origin[c] + span - lp[c] },
+                };
+            }
+            let (mut n1, mut s1, mut g1) = ([0u32; MAX_NODES_3D], [0.0; MAX_NODES_3D], [Vector3::zeros(); MAX_NODES_3D]);
+            let (mut n2, mut s2, mut g2) = (n1, s1, g1);
+            let k1 = weights_into_3d(&grid, ShapeKind::Ugimp, &x, &lp, &mut n1, &mut s1, &mut g1);
+            // SAFETY: the CPU has AVX2 (checked above).
+            let k2 = unsafe { weights_ugimp(&grid, &x, &lp, &mut n2, &mut s2, &mut g2) };
+            assert_eq!(k1, k2, "x = {x:?}, l_p = {lp:?}");
+            for j in 0..k1 {
+                assert_eq!(n1[j], n2[j]);
+                assert_eq!(s1[j].to_bits(), s2[j].to_bits(), "x = {x:?}, l_p = {lp:?}, node {j}");
+                for c in 0..3 {
+                    assert_eq!(g1[j][c].to_bits(), g2[j][c].to_bits(), "x = {x:?}, l_p = {lp:?}, node {j}");
+                }
+            }
+            cases += 1;
+        }
+        assert_eq!(cases, 40_000);
+    }
 }

@@ -88,6 +88,10 @@ fn floor_to_isize(v: f64) -> isize {
     }
 }
 
+/// How near an integer a quotient of [`axis_weights`] must be for the neighbouring node to
+/// be a candidate too.
+pub(crate) const EDGE: f64 = 1e-6;
+
 /// The non-zero 1D weights (value, derivative) along one axis and their node indices;
 /// returns how many.
 #[allow(clippy::too_many_arguments)]
@@ -113,7 +117,6 @@ fn axis_weights(
     let (ql, qh) = ((x - reach - x0) / h, (x + reach - x0) / h);
     let (lo, hi) = (floor_to_isize(ql), floor_to_isize(qh) + 1);
     // The quotients' round-off is a few ulps of n_cells, far below EDGE.
-    const EDGE: f64 = 1e-6;
     let first = if ql - (lo as f64) < EDGE { lo - 1 } else { lo }.max(0);
     let last = if qh - ((hi - 1) as f64) > 1.0 - EDGE { hi + 1 } else { hi }.min(n_cells as isize);
     let mut k = 0;
@@ -203,6 +206,22 @@ pub fn weights_into_3d(
     for c in 0..3 {
         k[c] = axis_weights(kind, x[c], grid.origin[c], grid.h[c], reach[c], lp[c], grid.n[c], &mut w[c], &mut idx[c]);
     }
+    tensor_product_3d(grid, &w, &idx, k, node, s, g)
+}
+
+/// The nodes, S and G of [`weights_into_3d`] from the 1D weights (value, derivative) `w`
+/// and node indices `idx` per axis, `k` of each (the tensor product; shared with the AVX2
+/// 1D weights of `gather3::weights_ugimp`, so both give the same bits).
+#[inline(always)]
+pub(crate) fn tensor_product_3d(
+    grid: &Grid3,
+    w: &[[(f64, f64); 3]; 3],
+    idx: &[[usize; 3]; 3],
+    k: [usize; 3],
+    node: &mut [u32; MAX_NODES_3D],
+    s: &mut [f64; MAX_NODES_3D],
+    g: &mut [Vector3; MAX_NODES_3D],
+) -> usize {
     // Node indices ix + (nx+1)·iy + (nx+1)(ny+1)·iz (`Grid3::node_index`), the row part
     // once per (y, z) row.
     let (sy_stride, sz_stride) = (grid.n[0] + 1, (grid.n[0] + 1) * (grid.n[1] + 1));

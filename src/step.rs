@@ -77,6 +77,22 @@ macro_rules! g3 {
     }};
 }
 
+/// `g3_exact!(f(args))`: a `gather3` exact completion (no `Option`), its result as the
+/// generic step's type.
+macro_rules! g3_exact {
+    ($($call:tt)*) => {{
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: fast3d gives Some only when the CPU has AVX2.
+            crate::gather3::same(unsafe { crate::gather3::$($call)* })
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            unreachable!("gather3 runs on x86-64 only")
+        }
+    }};
+}
+
 /// `gather!(avx, rerun_avx, this.f::<CONST_ARGS>(args))`: the certified sums of one
 /// gather, the same bits whichever way they come: the fast sums ([`Fast`]), else the
 /// gather again with [`Exact`] accumulators (see [`fast_or_exact`]); the fast sums in their
@@ -254,11 +270,11 @@ impl<S: Dimension> Simulation<S> {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MASS];
                 match (with_cracks, this.is_split(node)) {
                     (false, _) | (true, false) => match fast3 {
-                        Some(d3) => hinted(
+                        Some(d3) => hinted_lanes(
                             hint,
                             || g3!(node_mass::<crate::gather3::Acc4>(d3, &mv, a)),
                             || g3!(node_mass::<crate::gather3::Acc4x3>(d3, &mv, a)),
-                            || simd!(avx, avx2::node_mass::<S, Exact, false, false>(this, a), this.node_mass::<Exact, false, false>(a)),
+                            |u| g3_exact!(node_mass_exact(d3, &mv, a, u)),
                         ),
                         None => gather_hinted!(avx, avx, hint, this.node_mass::<false, false>(a)),
                     },
@@ -469,10 +485,7 @@ impl<S: Dimension> Simulation<S> {
         let fast3 = if avx { fast3d(this) } else { None };
         let grad_v = |i: usize| match with_cracks && this.is_split_particle(i) {
             false => match fast3 {
-                Some(d3) => fast_or_exact(
-                    || g3!(velocity_gradient(d3, i)),
-                    || simd!(avx, avx2::velocity_gradient::<S, Exact, false>(this, i), this.velocity_gradient::<Exact, false>(i)),
-                ),
+                Some(d3) => g3!(velocity_gradient(d3, i)).unwrap_or_else(|| g3_exact!(velocity_gradient_exact(d3, i))),
                 None => gather!(avx, avx, this.velocity_gradient::<false>(i)),
             },
             true => gather!(avx, false, this.velocity_gradient::<true>(i)),
@@ -523,11 +536,11 @@ impl<S: Dimension> Simulation<S> {
                 let ext = has_ext && loaded[a];
                 let hint = &this.scratch.gather_hints[node as usize][HINT_FORCE];
                 match this.is_split(node) {
-                    false if !ext && fast3.is_some() => hinted(
+                    false if !ext && fast3.is_some() => hinted_lanes(
                         hint,
                         || g3!(node_forces::<crate::gather3::Acc4>(fast3.unwrap(), &cols, a)),
                         || g3!(node_forces::<crate::gather3::Acc4x3>(fast3.unwrap(), &cols, a)),
-                        || simd!(avx, avx2::node_forces::<S, Exact, false>(this, a, ext, has_body), this.node_forces::<Exact, false>(a, ext, has_body)),
+                        |u| g3_exact!(node_forces_exact(fast3.unwrap(), &cols, a, u)),
                     ),
                     false => gather_hinted!(avx, avx, hint, this.node_forces::<false>(a, ext, has_body)),
                     true => gather_hinted!(avx, false, hint, this.node_forces::<true>(a, ext, has_body)),
@@ -749,11 +762,11 @@ impl<S: Dimension> Simulation<S> {
             .map(|(a, &node)| {
                 let hint = &this.scratch.gather_hints[node as usize][HINT_MOMENTUM];
                 match this.is_split(node) {
-                    false if fast3.is_some() => hinted(
+                    false if fast3.is_some() => hinted_lanes(
                         hint,
                         || g3!(node_momentum::<crate::gather3::Acc4>(fast3.unwrap(), &mv, a)),
                         || g3!(node_momentum::<crate::gather3::Acc4x3>(fast3.unwrap(), &mv, a)),
-                        || simd!(avx, avx2::node_momentum::<S, Exact, false>(this, a), this.node_momentum::<Exact, false>(a)),
+                        |u| g3_exact!(node_momentum_exact(fast3.unwrap(), &mv, a, u)),
                     ),
                     false => gather_hinted!(avx, avx, hint, this.node_momentum::<false>(a)),
                     true => gather_hinted!(avx, false, hint, this.node_momentum::<true>(a)),
@@ -1172,6 +1185,26 @@ fn hinted<T>(hint: &AtomicU8, fast: impl FnOnce() -> Option<T>, three: impl FnOn
     three().or_else(|| rerun(exact)).expect("ExactSum always certifies its sums")
 }
 
+/// [`hinted`] for the 3D node gathers of `gather3`, which say which lanes they left
+/// uncertified (`Err(u)`): the fast sums (or, while the hint is set, the three-level ones)
+/// first; where the fast sums fail, the three-level sums; the lanes those leave open are
+/// summed exactly by `exact(u)` over the same terms (`gather3::ExactLanes`). The hint
+/// works as in [`hinted`]. Every certified lane and every exact one is the correctly
+/// rounded sum, so which of them a lane took does not show in the bits.
+#[inline(always)]
+fn hinted_lanes<T, U>(hint: &AtomicU8, fast: impl FnOnce() -> Result<T, U>, three: impl FnOnce() -> Result<T, U>, exact: impl FnOnce(U) -> T) -> T {
+    let steps = hint.load(Ordering::Relaxed);
+    if steps == 0 {
+        match fast() {
+            Ok(v) => return v,
+            Err(_) => hint.store(HINT_STEPS, Ordering::Relaxed),
+        }
+    } else {
+        hint.store(steps - 1, Ordering::Relaxed);
+    }
+    three().unwrap_or_else(exact)
+}
+
 /// Run a gather's exact rerun out of line: its [`Exact`] accumulators keep their terms
 /// (tens of kilobytes of stack), which inlined into the caller made every call of the
 /// gather probe that stack, page by page, rerun or not.
@@ -1224,6 +1257,18 @@ mod avx2 {
 
     #[target_feature(enable = "avx2")]
     pub(super) fn weights_into<S: Space>(grid: &S::Grid, kind: ShapeKind, x: &S::Vector, lp: &S::Vector, node: &mut [u32], s: &mut [f64], g: &mut [S::Vector]) -> usize {
+        use std::any::TypeId;
+        if TypeId::of::<S>() == TypeId::of::<crate::dim::D3>() && kind == ShapeKind::Ugimp {
+            // 3D uGIMP: the 1D weights of the three axes at once (gather3::weights_ugimp, the
+            // same values as shape::weights_into_3d).
+            // SAFETY: S is D3, so its grid, vectors and slices are Grid3 and Vector3 ones.
+            unsafe {
+                let grid = &*(grid as *const S::Grid as *const crate::grid::Grid3);
+                let (x, lp) = (&*(x as *const S::Vector as *const crate::dim::Vector3), &*(lp as *const S::Vector as *const crate::dim::Vector3));
+                let g = std::slice::from_raw_parts_mut(g.as_mut_ptr() as *mut crate::dim::Vector3, g.len());
+                return crate::gather3::weights_ugimp(grid, x, lp, node.try_into().unwrap(), s.try_into().unwrap(), g.try_into().unwrap());
+            }
+        }
         S::weights_into(grid, kind, x, lp, node, s, g)
     }
 }
