@@ -79,6 +79,8 @@ pub struct ExampleRun {
     /// the boundary (growth3 module doc, items 5–6).
     pub folded: usize,
     pub near_edge: usize,
+    /// Front nodes taken off the front by the notch rule (growth3 module doc, item 7).
+    pub filled: usize,
     /// Largest distance outside the specimen of a crack particle made by growth, over all steps.
     pub max_outside: f64,
     pub increment: f64,
@@ -176,6 +178,7 @@ pub fn run_example(
         pruned: g.cracks[0].pruned,
         folded: g.cracks[0].folded,
         near_edge: g.cracks[0].near_edge,
+        filled: g.cracks[0].filled,
         max_outside,
         increment,
     })
@@ -383,7 +386,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. \
          Growth from t = {:.4} ms (check at step {}): {} node moves; front nodes {} at the start, at most {}, {} at the end \
          ({} front edges; {} splits, {} merges, {} edges pruned at the boundary, {} nodes stopped within reach of it, {} moves \
-         refused for folding the new strip and retried; node status at the last check {:?}). \
+         refused for folding the new strip and retried, {} nodes at the apex of a tongue of material filled; node status at the last check {:?}). \
          Crack surface {} → {} triangles, {} → {} crack particles.",
         r.particles,
         r.steps,
@@ -404,6 +407,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         r.pruned,
         r.near_edge,
         r.folded,
+        r.filled,
         statuses,
         r.initial_triangles,
         r.triangles,
