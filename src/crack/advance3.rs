@@ -143,6 +143,14 @@
 //!   bit). A node next to one that does not move is a run end: the staircase of
 //!   asynchronous moves (growth3 module doc, item 3) is not resampled.
 //!
+//! * **notch** (not in the paper; issue 17, case `tube_crack`; [`fill_notches`], applied
+//!   by the growth driver after each advance): a front node at the apex of a tongue of
+//!   material reaching back into the crack (the material between its two front edges
+//!   under [`NOTCH_ANGLE_DEG`] = 45°) is cut off with the triangle (node, previous, next)
+//!   and leaves the front. Such an apex cannot move (its heading is skewed by its nearly
+//!   opposed edges, and every triangle it would make is refused or a fold), and the rest
+//!   of the front passes it by.
+//!
 //! New crack particles start with both crack surfaces at their position (as a new 2D tip
 //! particle does). Everything is a deterministic function of the inputs.
 
