@@ -250,6 +250,11 @@ pub struct FractureSpec3 {
     /// K_I, K_II, K_III is read (default 1).
     #[serde(default = "default_cod_behind")]
     pub cod_behind: f64,
+    /// Half-length, in cells, of the hat weight along the front over which the openings
+    /// of the neighbouring front nodes are averaged before the split (default 0: each
+    /// node's own opening; [`crate::fracture::front3::average_openings`]).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cod_along: f64,
     /// How J₁ is evaluated: "contour" (default; the paper's circle of `radius`, 001 Fig. 2)
     /// or "domain" (the equivalent domain integral over the particles, with the weight
     /// q = 1 within `radius − ramp` cells of the front line, falling to 0 at `radius`, and a
@@ -287,6 +292,9 @@ fn default_front_radius() -> f64 {
 }
 fn default_front_intervals() -> usize {
     16
+}
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 fn default_cod_behind() -> f64 {
     1.0
@@ -995,6 +1003,9 @@ impl Scene3 {
                     return Err(invalid(f("fracture.intervals"), format!("must be 2 to 4096, got {}", fr.intervals)));
                 }
                 positive(&f("fracture.cod_behind"), fr.cod_behind)?;
+                if !(fr.cod_along >= 0.0 && fr.cod_along <= 64.0) {
+                    return Err(invalid(f("fracture.cod_along"), format!("must be in [0, 64] cells (half-length along the front of the openings' average; 0: each node's own), got {}", fr.cod_along)));
+                }
                 if let Some(along) = fr.along {
                     positive(&f("fracture.along"), along)?;
                 }
@@ -1207,7 +1218,7 @@ impl Scene3 {
                 return Err(invalid(format!("cracks[{i}].fracture.nodes"), format!("selects no front node (the crack has {} front edges)", crack.front.len())));
             }
             let domain = (fr.method == FrontMethod::Domain).then(|| crate::fracture::front3::DomainShape { inner: (fr.radius - fr.domain_ramp()) * h, outer: fr.radius * h, along: fr.domain_along() * h });
-            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, tangents: Default::default(), normals: Default::default(), domain }));
+            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, cod_along: fr.cod_along * h, tangents: Default::default(), normals: Default::default(), domain }));
         }
         Ok(out)
     }

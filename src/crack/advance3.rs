@@ -143,6 +143,14 @@
 //!   bit). A node next to one that does not move is a run end: the staircase of
 //!   asynchronous moves (growth3 module doc, item 3) is not resampled.
 //!
+//! * **notch** (not in the paper; issue 17, case `tube_crack`; [`fill_notches`], applied
+//!   by the growth driver after each advance): a front node at the apex of a tongue of
+//!   material reaching back into the crack (the material between its two front edges
+//!   under [`NOTCH_ANGLE_DEG`] = 45°) is cut off with the triangle (node, previous, next)
+//!   and leaves the front. Such an apex cannot move (its heading is skewed by its nearly
+//!   opposed edges, and every triangle it would make is refused or a fold), and the rest
+//!   of the front passes it by.
+//!
 //! New crack particles start with both crack surfaces at their position (as a new 2D tip
 //! particle does). Everything is a deterministic function of the inputs.
 
@@ -546,6 +554,121 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface], fo
     (existing, new)
 }
 
+/// The largest material angle (degrees) at a front node that [`fill_notches`] fills.
+pub const NOTCH_ANGLE_DEG: f64 = 45.0;
+
+/// The material angle at front node `v` whose front edges are p→v and v→n (directed with
+/// the crack on their left seen from above, `normal` the crack's normal there): 2π less the
+/// angle the crack fills at v, the angle from n − v counter-clockwise about `normal` to
+/// p − v (in [0, 2π)). π on a straight front, above π where v leads its neighbours (every
+/// node of a convex front), below where it lags them.
+pub fn material_angle(p: Vector3, v: Vector3, n: Vector3, normal: Vector3) -> f64 {
+    let (a, b) = (p - v, n - v);
+    let crack = normal.normalize().dot(&b.cross(&a)).atan2(b.dot(&a)).rem_euclid(std::f64::consts::TAU);
+    std::f64::consts::TAU - crack
+}
+
+/// Notch rule (not in the paper; issue 17, case `tube_crack`): a front node v with one
+/// front edge in, p→v, and one out, v→n, where the material between the two edges makes
+/// an angle below `max_angle` (radians; [`material_angle`], the normal the mean unit
+/// normal of v's triangles) is the apex of a tongue of material reaching back into the
+/// crack. The triangle (v, p, n) is added to the crack, v leaves the front and p→n takes
+/// the two edges' place (reference length the smaller of theirs). Most acute first (ties
+/// by vertex index), repeated until no node qualifies; a fill is skipped when (v, p, n) is
+/// degenerate, when p–n is already an edge of the surface, or when the triangle meets an
+/// existing triangle of this crack (not sharing a corner) or of another crack. Returns the
+/// nodes taken off the front, in the order filled.
+///
+/// Why: the tongue's apex cannot move. Its front tangent (the sum of the unit vectors
+/// along its two edges, which nearly cancel) and so its heading are skewed, and every
+/// triangle it would make runs through the crack beside it or stands on end (refused at a
+/// crack, or as a fold); its neighbours then fan one-end triangles about it. Measured on
+/// `tube_crack` (stop 38, main 05ab9c3, surface at step 618): front nodes 2843 (74.3°
+/// round the tube, r = 42.4 mm) and 2858 (75.6°) of the +x branch, unmoved from step 330
+/// to the end with K_eq = 3850–8000 (K_Ic = 632), at the apex of a ligament 2.4 mm high on
+/// the inner face that the rest of the front had passed (material angles 5° and, once
+/// 2843 is filled, 28°); the check `runs_round` read 74.3° for a branch that had run
+/// 190° round. 45°: a front growing node by node is a staircase of one increment, and a
+/// node lagging both neighbours by one increment at the default spacing (both half a cell)
+/// has a material angle of 90°; a tongue under 45° is narrower than its own length over
+/// the last cell, below what the grid resolves.
+pub fn fill_notches(crack: &mut Crack3, front_ref: &mut Vec<f64>, others: &[&TriangleSurface], max_angle: f64) -> Vec<u32> {
+    assert_eq!(front_ref.len(), crack.front.len(), "one reference length per front edge");
+    let mut filled = Vec::new();
+    let mut skip: BTreeSet<u32> = BTreeSet::new();
+    loop {
+        let pts = &crack.surface.vertices;
+        let mut incoming: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+        let mut outgoing: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+        for (k, &[a, b]) in crack.front.iter().enumerate() {
+            outgoing.entry(a).or_default().push(k);
+            incoming.entry(b).or_default().push(k);
+        }
+        let mut normals: BTreeMap<u32, Vector3> = BTreeMap::new();
+        for (t, tri) in crack.surface.triangles.iter().enumerate() {
+            let n = crack.surface.normal(t);
+            let len = n.norm();
+            if len > 0.0 {
+                for v in tri.iter().filter(|v| incoming.contains_key(v)) {
+                    *normals.entry(*v).or_insert_with(Vector3::zeros) += n / len;
+                }
+            }
+        }
+        let mut candidates: Vec<(f64, u32, usize, usize)> = Vec::new();
+        for (&v, ins) in &incoming {
+            let (Some(outs), Some(normal)) = (outgoing.get(&v), normals.get(&v)) else { continue };
+            if ins.len() != 1 || outs.len() != 1 || skip.contains(&v) {
+                continue;
+            }
+            let (ki, ko) = (ins[0], outs[0]);
+            let (p, n) = (crack.front[ki][0], crack.front[ko][1]);
+            if p == n {
+                continue;
+            }
+            let angle = material_angle(pts[p as usize], pts[v as usize], pts[n as usize], *normal);
+            if angle < max_angle {
+                candidates.push((angle, v, ki, ko));
+            }
+        }
+        candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let Some(&(_, v, ki, ko)) = candidates.first() else { break };
+        let (p, n) = (crack.front[ki][0], crack.front[ko][1]);
+        let tri = [v, p, n];
+        let t = tri.map(|i| pts[i as usize]);
+        let degenerate = (t[1] - t[0]).cross(&(t[2] - t[0])).norm() == 0.0;
+        let has_edge = crack.surface.triangles.iter().any(|u| u.contains(&p) && u.contains(&n));
+        let bbox = |t: &[Vector3; 3]| (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]));
+        let (lo, hi) = bbox(&t);
+        let near = |u: &[Vector3; 3]| {
+            let (ulo, uhi) = bbox(u);
+            (0..3).all(|d| lo[d] <= uhi[d] && ulo[d] <= hi[d])
+        };
+        let meets_own = crack.surface.triangles.iter().any(|u| !u.iter().any(|i| tri.contains(i)) && {
+            let old = u.map(|i| pts[i as usize]);
+            near(&old) && triangles_meet(&t, &old)
+        });
+        let meets_other = others.iter().any(|s| s.triangles.iter().any(|u| {
+            let old = u.map(|i| s.vertices[i as usize]);
+            near(&old) && triangles_meet(&t, &old)
+        }));
+        if degenerate || has_edge || meets_own || meets_other {
+            skip.insert(v);
+            continue;
+        }
+        let reference = front_ref[ki].min(front_ref[ko]);
+        crack.surface.triangles.push(tri);
+        crack.front[ki] = [p, n];
+        front_ref[ki] = reference;
+        crack.front.remove(ko);
+        front_ref.remove(ko);
+        let (edges, verts) = crack.surface.boundary_flags();
+        crack.boundary_edge = edges;
+        crack.boundary_vertex = verts;
+        filled.push(v);
+    }
+    filled
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -637,6 +760,58 @@ mod tests {
         assert_eq!((r.new_vertices, r.new_triangles), (1, 1));
         check_valid(&c);
         assert_eq!(c.front.len(), 2);
+    }
+
+    /// Notch rule: a front node left four increments behind both neighbours (spacing 1,
+    /// material angle 2 atan(1/4) = 28°) is filled with the triangle (node, previous,
+    /// next) and leaves the front; one left a single increment behind (90°) is not, nor is
+    /// any node of a straight front.
+    #[test]
+    fn tongue_of_material_is_filled_at_its_apex() {
+        let (mut c, mut refs) = strip(6);
+        assert!(fill_notches(&mut c, &mut refs, &[], NOTCH_ANGLE_DEG.to_radians()).is_empty(), "a straight front has no notch");
+        for (lag, fills) in [(4.0, true), (1.0, false)] {
+            let (mut c, mut refs) = strip(6);
+            let stay = 7; // the front node at y = 0
+            let moves = moves_of(&c, |x| x + Vector3::new(lag, 0.0, 0.0)).into_iter().filter(|&(v, _)| v != stay).collect();
+            let r = advance_front(&mut c, &mut refs, &moves, &[]);
+            assert!(r.refused.is_empty() && r.folded.is_empty());
+            let new_of = |v: u32| r.moved.iter().find(|m| m.0 == v).unwrap().1;
+            let (p, n) = (new_of(5), new_of(9));
+            let pts = &c.surface.vertices;
+            let angle = material_angle(pts[p as usize], pts[stay as usize], pts[n as usize], Vector3::z());
+            let triangles = c.surface.triangles.len();
+            let filled = fill_notches(&mut c, &mut refs, &[], NOTCH_ANGLE_DEG.to_radians());
+            check_valid(&c);
+            assert_eq!(refs.len(), c.front.len());
+            if fills {
+                assert!((angle - 2.0 * 0.25f64.atan()).abs() < 1e-12, "angle {angle}");
+                assert_eq!(filled, vec![stay]);
+                assert_eq!(c.surface.triangles.len(), triangles + 1);
+                assert!(c.front.contains(&[p, n]) && !c.front.iter().flatten().any(|&v| v == stay));
+            } else {
+                assert!(filled.is_empty(), "lag {lag}: filled {filled:?} at angle {angle}");
+                assert_eq!(c.surface.triangles.len(), triangles);
+            }
+        }
+    }
+
+    /// The material angle: π on a straight front, above π at a node of a convex crack's
+    /// front (a penny's) and where the node leads its neighbours.
+    #[test]
+    fn material_angle_of_straight_convex_and_leading_fronts() {
+        let z = Vector3::z();
+        let pi = std::f64::consts::PI;
+        // Straight front along +y with the crack on its left (x < 1).
+        let a = material_angle(Vector3::new(1.0, -1.0, 0.0), Vector3::new(1.0, 0.0, 0.0), Vector3::new(1.0, 1.0, 0.0), z);
+        assert!((a - pi).abs() < 1e-15);
+        // Penny of radius 1 about the origin, front counter-clockwise seen from +z.
+        let at = |deg: f64| Vector3::new(deg.to_radians().cos(), deg.to_radians().sin(), 0.0);
+        let a = material_angle(at(-10.0), at(0.0), at(10.0), z);
+        assert!((a - (pi + 10f64.to_radians())).abs() < 1e-12, "{a}");
+        // A node one unit ahead of neighbours one unit away: 90° of crack, 270° of material.
+        let a = material_angle(Vector3::new(1.0, -1.0, 0.0), Vector3::new(2.0, 0.0, 0.0), Vector3::new(1.0, 1.0, 0.0), z);
+        assert!((a - 1.5 * pi).abs() < 1e-12, "{a}");
     }
 
     /// Turn-over (module doc): a front end moved back behind its front edge and past its

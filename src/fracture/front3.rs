@@ -199,6 +199,9 @@ pub struct FrontRequest {
     pub volume_term: bool,
     /// Distance behind the front at which the opening is read (length).
     pub cod_behind: f64,
+    /// Half-length (length) of the hat along the front over which the neighbours'
+    /// openings are averaged before the split ([`average_openings`]); 0: none.
+    pub cod_along: f64,
     /// Front tangents that replace the front's own at these nodes (the growth driver's,
     /// [`crate::fracture::growth3`]); empty: every node's own.
     pub tangents: BTreeMap<u32, Vector3>,
@@ -395,6 +398,64 @@ pub fn front_frames_with(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>, norm
         }
     }
     tangent.iter().filter_map(|(&v, t)| FrontFrame::from_tangent_normal(t, &normal[&v]).map(|f| (v, f))).collect()
+}
+
+/// The opening that splits J at front node `v` when the scene asks for an average along
+/// the front (`cod_along` = L > 0): the openings (each in its own node's frame: the mode
+/// I, II, III openings) of the requested front nodes within arc length L of `v` along the
+/// front's edges, weighted by the hat 1 − s/L (s the shortest arc length from `v`), summed in
+/// ascending vertex order; nodes whose opening is not finite are left out (a node whose own
+/// opening is not finite keeps it: its own read failed).
+///
+/// Why: K's split is read at one point (`cod_behind` behind the node), where the opening is
+/// interpolated from the crack particles of a surface resolved to about a cell, while J₁
+/// integrates over the contour (radius 2 cells by default). On a front made jagged by its
+/// own growth (a staircase of half-cell increments, kinks ±20–40°) the point read sees
+/// that staircase, and K_II/K_I then changed sign from node to node (case `tube_crack`,
+/// stop 38: −0.51 … +0.43 on neighbours 0.6 mm apart, 2 mm cells), far below what the grid
+/// resolves; averaged along the front over the contour's radius, the split has the
+/// contour's resolution along x₃ as well as in the (x₁, x₂) plane. A split that varies
+/// smoothly along the front is changed by its curvature over ±L (K_II ∝ cos φ on an inclined
+/// penny of radius a: by a factor ≈ 1 − L²/(6a²) at the peak).
+pub fn average_openings(crack: &Crack3, own: &BTreeMap<u32, [f64; 3]>, v: u32, along: f64) -> [f64; 3] {
+    let pts = &crack.surface.vertices;
+    // Shortest arc length from v to each front node within `along` (Dijkstra on the front's
+    // edges through requested nodes; a front has few nodes within a few cells).
+    let mut dist: BTreeMap<u32, f64> = BTreeMap::from([(v, 0.0)]);
+    let mut open: Vec<u32> = vec![v];
+    while let Some(i) = open.iter().enumerate().min_by(|a, b| dist[a.1].total_cmp(&dist[b.1]).then(a.1.cmp(b.1))).map(|(i, _)| i) {
+        let u = open.swap_remove(i);
+        let du = dist[&u];
+        for e in crack.front.iter().filter(|e| e.contains(&u)) {
+            let w = if e[0] == u { e[1] } else { e[0] };
+            if !own.contains_key(&w) {
+                continue;
+            }
+            let d = du + (pts[w as usize] - pts[u as usize]).norm();
+            if d < along && dist.get(&w).is_none_or(|&old| d < old) {
+                dist.insert(w, d);
+                if !open.contains(&w) {
+                    open.push(w);
+                }
+            }
+        }
+    }
+    let (mut sum, mut weight) = ([0.0; 3], 0.0);
+    for (u, s) in &dist {
+        let d = own[u];
+        if d.iter().all(|x| x.is_finite()) {
+            let w = 1.0 - s / along;
+            for a in 0..3 {
+                sum[a] += w * d[a];
+            }
+            weight += w;
+        }
+    }
+    if weight > 0.0 {
+        sum.map(|x| x / weight)
+    } else {
+        [f64::NAN; 3]
+    }
 }
 
 /// The crack-face jump (above − below) of the crack surface at the point of the
@@ -750,6 +811,16 @@ impl Simulation<D3> {
             };
             out.push(FrontResult { time: self.time, crack: c, node: v, x: x0, frame, j1, j2, j1_line, j2_line, delta, k });
         }
+        if req.cod_along > 0.0 {
+            let own: BTreeMap<u32, [f64; 3]> = out.iter().map(|r| (r.node, r.delta)).collect();
+            for r in out.iter_mut().filter(|r| r.delta.iter().all(|d| d.is_finite())) {
+                r.delta = average_openings(crack, &own, r.node, req.cod_along);
+                r.k = match self.material_near3(&r.x) {
+                    Some(m) if r.delta.iter().all(|d| d.is_finite()) && r.j1.is_finite() => partition_k3(r.j1, r.delta, m.e, m.nu),
+                    _ => [f64::NAN; 3],
+                };
+            }
+        }
         out
     }
 
@@ -819,6 +890,32 @@ impl Simulation<D2> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The openings' average along the front (`cod_along`): an opening alternating in sign
+    /// from node to node cancels over ±2 spacings (hat weights ½, 1, ½), one linear along
+    /// the front is kept at interior nodes and pulled inward at an end (one-sided), and
+    /// L = 0 < spacing leaves each node its own.
+    #[test]
+    fn openings_average_along_the_front() {
+        use crate::crack::surface::TriangleSurface;
+        use crate::crack::ContactLaw;
+        let n = 6u32;
+        let mut v = Vec::new();
+        for j in 0..=n {
+            v.push(Vector3::new(0.0, j as f64, 0.0));
+            v.push(Vector3::new(1.0, j as f64, 0.0));
+        }
+        let t: Vec<[u32; 3]> = (0..n).flat_map(|j| [[2 * j, 2 * j + 1, 2 * j + 3], [2 * j, 2 * j + 3, 2 * j + 2]]).collect();
+        let front: Vec<[u32; 2]> = (0..n).map(|j| [2 * j + 1, 2 * j + 3]).collect();
+        let crack = Crack3::new(TriangleSurface::new(v, t).unwrap(), ContactLaw::None, 0.0, 0.0, front);
+        // Node 2j + 1 at y = j: δ₁ alternating ±1, δ₂ = y, δ₃ = 0.
+        let own: BTreeMap<u32, [f64; 3]> = (0..=n).map(|j| (2 * j + 1, [if j % 2 == 0 { 1.0 } else { -1.0 }, j as f64, 0.0])).collect();
+        let mid = average_openings(&crack, &own, 7, 2.0);
+        assert!(mid[0].abs() < 1e-15 && (mid[1] - 3.0).abs() < 1e-15, "{mid:?}");
+        let end = average_openings(&crack, &own, 1, 2.0);
+        assert!((end[0] - (1.0 - 0.5) / 1.5).abs() < 1e-15 && (end[1] - 0.5 / 1.5).abs() < 1e-15, "{end:?}");
+        assert_eq!(average_openings(&crack, &own, 7, 0.5), own[&7]);
+    }
 
     /// The domain integral's weight: ∫ψ over a front running both ways is `along`, over one
     /// ending at the node along/2; ∇q matches central differences of q inside the ramp and

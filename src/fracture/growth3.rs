@@ -167,6 +167,14 @@
 //!    changed), 7 of them were refused at every retry, as the split points' headings
 //!    stayed skewed. With the two rules the case has no fold at all (0 retries): the
 //!    retry is the fallback for a fold they do not prevent.
+//! 7. **Notch rule** ([`fill_notches`], not in the paper): after the advance, a front node
+//!    at the apex of a tongue of material reaching back into the crack — the material
+//!    between its two front edges making an angle below [`NOTCH_ANGLE_DEG`] = 45° — is cut
+//!    off: the triangle (node, previous, next) joins the crack and the node leaves the
+//!    front (most acute first, until none is left; the reason and the measured case are in
+//!    the function's doc). Such a node cannot move: its growth tangent and heading are
+//!    skewed by its nearly opposed front edges, and every triangle it would make runs
+//!    through the crack beside it or stands on end.
 //!
 //! A new front node made by a split takes a copy of the growth history (advance, increment
 //! times, status) of the lower-labelled end of its edge; merged nodes keep the history of
@@ -179,7 +187,7 @@
 //! exact sums in J and the relative volume, so a run is bit-identical for any particle
 //! order and thread count (tests/three_d_crack_reproducibility.rs).
 
-use crate::crack::advance3::{advance_front_stopped, fold_cos, prune_front, respace_moves};
+use crate::crack::advance3::{advance_front_stopped, fill_notches, fold_cos, prune_front, respace_moves, NOTCH_ANGLE_DEG};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
@@ -261,6 +269,8 @@ pub struct FrontGrowth {
     /// and nodes stopped within reach of the boundary (item 5), so far.
     pub folded: usize,
     pub near_edge: usize,
+    /// Front nodes taken off the front by the notch rule ([`fill_notches`]), so far.
+    pub filled: usize,
 }
 
 /// One evaluation at one front node (a row of the 3D growth.csv).
@@ -342,7 +352,7 @@ impl Growth3 {
                 let nodes: BTreeMap<u32, NodeGrowth> =
                     ids.iter().enumerate().map(|(k, &v)| (v, NodeGrowth::start(k as u32))).collect();
                 let next_label = nodes.len() as u32;
-                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0, folded: 0, near_edge: 0 }
+                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0, folded: 0, near_edge: 0, filled: 0 }
             })
             .collect();
         Growth3 { toughness, cracks, records: Vec::new() }
@@ -558,6 +568,17 @@ impl Simulation<D3> {
                     next.insert(v, ng);
                 }
                 fg.nodes = next;
+            }
+            // Tongues of material reaching back into the crack are cut at their apex
+            // (notch rule, module doc item 7).
+            {
+                let others: Vec<&crate::crack::surface::TriangleSurface> = self.cracks.iter().enumerate().filter(|&(o, _)| o != c).map(|(_, k)| &k.surface).collect();
+                let mut crack = self.cracks[c].clone();
+                let filled = fill_notches(&mut crack, &mut fg.front_ref, &others, NOTCH_ANGLE_DEG.to_radians());
+                if !filled.is_empty() {
+                    self.cracks[c] = crack;
+                    fg.filled += filled.len();
+                }
             }
             // Front edges with both ends stopped at the boundary leave the front.
             let stopped: BTreeSet<u32> = fg.nodes.iter().filter(|(_, n)| n.status == NodeStatus::AtEdge).map(|(&v, _)| v).collect();

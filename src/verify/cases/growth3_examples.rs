@@ -79,6 +79,8 @@ pub struct ExampleRun {
     /// the boundary (growth3 module doc, items 5–6).
     pub folded: usize,
     pub near_edge: usize,
+    /// Front nodes taken off the front by the notch rule (growth3 module doc, item 7).
+    pub filled: usize,
     /// Largest distance outside the specimen of a crack particle made by growth, over all steps.
     pub max_outside: f64,
     pub increment: f64,
@@ -176,6 +178,7 @@ pub fn run_example(
         pruned: g.cracks[0].pruned,
         folded: g.cracks[0].folded,
         near_edge: g.cracks[0].near_edge,
+        filled: g.cracks[0].filled,
         max_outside,
         increment,
     })
@@ -251,12 +254,21 @@ pub fn mixity(records: &[NodeRecord], da: f64, late_after: f64) -> Mixity {
 /// cells away in z where the two pass each other. Returns (index into `records`,
 /// unwrapped angle).
 pub fn unwrapped_angles(records: &[NodeRecord], angle: impl Fn(&Vector3) -> f64) -> Vec<(usize, f64)> {
+    let all = unwrapped_angles_all(records, angle);
+    let last = all.iter().map(|&(i, _)| records[i].step).max();
+    all.into_iter().filter(|&(i, _)| Some(records[i].step) == last).collect()
+}
+
+/// [`unwrapped_angles`] for the front nodes of every check, in the order of `records`'
+/// checks.
+pub fn unwrapped_angles_all(records: &[NodeRecord], angle: impl Fn(&Vector3) -> f64) -> Vec<(usize, f64)> {
     let wrap = |d: f64| d - 360.0 * (d / 360.0).round();
     let mut by_step: BTreeMap<u64, Vec<usize>> = BTreeMap::new();
     for (i, r) in records.iter().enumerate() {
         by_step.entry(r.step).or_default().push(i);
     }
     let mut prev: Vec<(usize, f64)> = Vec::new();
+    let mut all = Vec::with_capacity(records.len());
     for rows in by_step.values() {
         let mut cur = Vec::with_capacity(rows.len());
         for &i in rows {
@@ -270,9 +282,20 @@ pub fn unwrapped_angles(records: &[NodeRecord], angle: impl Fn(&Vector3) -> f64)
                 None => a,
             }));
         }
+        all.extend(cur.iter().copied());
         prev = cur;
     }
-    prev
+    all
+}
+
+/// A branch's end (case `tube_crack`): the front nodes of the branch (the sign `sign` of
+/// the unwrapped angle) at the last check at which it had any — a branch whose front has
+/// all been stopped and pruned keeps where it was last seen — with their travel |angle|.
+/// Empty if the branch never had a node.
+pub fn branch_end(records: &[NodeRecord], all: &[(usize, f64)], sign: f64) -> Vec<(usize, f64)> {
+    let mine: Vec<(usize, f64)> = all.iter().copied().filter(|&(_, a)| a * sign > 0.0).collect();
+    let last = mine.iter().map(|&(i, _)| records[i].step).max();
+    mine.into_iter().filter(|&(i, _)| Some(records[i].step) == last).map(|(i, a)| (i, a * sign)).collect()
 }
 
 /// Area-weighted mean unit normal of triangles (each turned into the hemisphere of `axis`)
@@ -383,7 +406,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. \
          Growth from t = {:.4} ms (check at step {}): {} node moves; front nodes {} at the start, at most {}, {} at the end \
          ({} front edges; {} splits, {} merges, {} edges pruned at the boundary, {} nodes stopped within reach of it, {} moves \
-         refused for folding the new strip and retried; node status at the last check {:?}). \
+         refused for folding the new strip and retried, {} nodes at the apex of a tongue of material filled; node status at the last check {:?}). \
          Crack surface {} → {} triangles, {} → {} crack particles.",
         r.particles,
         r.steps,
@@ -404,6 +427,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         r.pruned,
         r.near_edge,
         r.folded,
+        r.filled,
         statuses,
         r.initial_triangles,
         r.triangles,
@@ -506,12 +530,16 @@ pub fn run_tube(_variant: Variant) -> anyhow::Result<CaseOutput> {
     out.measure("surface_turns", "h = 2 mm", tilt, 0.0);
     // Each end's travel round the tube and the axial offset of the two paths.
     // Branches by the sign of the angle unwrapped over the checks (cases.toml, runs_round).
-    let last = unwrapped_angles(&r.records, angle);
-    let plus: Vec<(&NodeRecord, f64)> = last.iter().filter(|x| x.1 > 0.0).map(|&(i, a)| (&r.records[i], a)).collect();
-    let minus: Vec<(&NodeRecord, f64)> = last.iter().filter(|x| x.1 < 0.0).map(|&(i, a)| (&r.records[i], -a)).collect();
-    let travel = |v: &[(&NodeRecord, f64)]| v.iter().map(|x| x.1).fold(f64::NAN, f64::min);
+    // Each branch at the last check at which it had front nodes (a branch whose whole
+    // front was stopped and pruned is measured where it was last seen).
+    let all = unwrapped_angles_all(&r.records, angle);
+    let ends = [1.0, -1.0].map(|sign| branch_end(&r.records, &all, sign));
+    let [plus, minus] = ends.map(|e| e.into_iter().map(|(i, a)| (&r.records[i], a)).collect::<Vec<(&NodeRecord, f64)>>());
+    let travel = |v: &[(&NodeRecord, f64)]| v.iter().map(|x| x.1).reduce(f64::min).unwrap_or(f64::NAN);
     let (tp, tm) = (travel(&plus), travel(&minus));
-    out.measure("runs_round", "h = 2 mm", tp.min(tm), 0.0);
+    let last_seen = |v: &[(&NodeRecord, f64)]| v.first().map_or(f64::NAN, |x| x.0.time * 1e3);
+    // NaN (a branch with no node at all) fails the check: f64::min would drop it.
+    out.measure("runs_round", "h = 2 mm", if tp.is_nan() || tm.is_nan() { f64::NAN } else { tp.min(tm) }, 0.0);
     let zmean = |v: &[(&NodeRecord, f64)]| v.iter().map(|x| x.0.x.z).sum::<f64>() / v.len() as f64;
     let offset = (zmean(&plus) - zmean(&minus)).abs();
     out.measure("paths_offset", "h = 2 mm", offset, 0.0);
@@ -521,7 +549,7 @@ pub fn run_tube(_variant: Variant) -> anyhow::Result<CaseOutput> {
         "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. Growth from \
          t = {:.4} ms; front nodes {} at the start, at most {}, {} at the end; {} splits, {} merges, {} edges pruned; {} rows refused \
          at a crack. Median |K_II|/K_I {:.3} at onset, {:.3} late; grown surface's mean normal {:.1}° from the axis (initial 45°). \
-         Ends at the last check (branches by their angle unwrapped over the checks): the +x branch's least travel {:.1}°, the −x branch's {:.1}° round the tube from the crack's middle, mean z {:.2} and {:.2} mm.",
+         Ends (branches by their angle unwrapped over the checks, each at the last check at which it had front nodes: t = {:.1} and {:.1} µs): the +x branch's least travel {:.1}°, the −x branch's {:.1}° round the tube from the crack's middle, mean z {:.2} and {:.2} mm.",
         r.particles,
         r.steps,
         r.time,
@@ -540,6 +568,8 @@ pub fn run_tube(_variant: Variant) -> anyhow::Result<CaseOutput> {
         m.onset,
         m.late,
         tilt,
+        last_seen(&plus),
+        last_seen(&minus),
         tp,
         tm,
         if plus.is_empty() { f64::NAN } else { zmean(&plus) },
