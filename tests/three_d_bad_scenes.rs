@@ -242,6 +242,9 @@ fn bad_fracture_tables_and_unknown_detection_are_refused_in_3d() {
     expect_invalid(&fr("radius = 1000.0"), None, "cracks[0].fracture.radius", &["cells"]);
     expect_invalid(&fr("intervals = 1"), None, "cracks[0].fracture.intervals", &["2 to 4096"]);
     expect_invalid(&fr("cod_behind = -1.0"), None, "cracks[0].fracture.cod_behind", &[]);
+    expect_invalid(&fr("cod_along = -1.0"), None, "cracks[0].fracture.cod_along", &["[0, 64] cells", "-1"]);
+    expect_invalid(&fr("cod_along = 100.0"), None, "cracks[0].fracture.cod_along", &["[0, 64] cells", "100"]);
+    expect_invalid(&fr("cod_along = nan"), None, "cracks[0].fracture.cod_along", &["[0, 64] cells"]);
     expect_invalid(&fr("method = \"domain\", radius = 2.0, ramp = 3.0"), None, "cracks[0].fracture.ramp", &["radius"]);
     expect_invalid(&fr("method = \"domain\", along = 0.0"), None, "cracks[0].fracture.along", &[]);
     expect_invalid(&fr("along = 2.0"), None, "cracks[0].fracture.method", &["domain"]);

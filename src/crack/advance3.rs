@@ -286,7 +286,14 @@ pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves
 /// is beyond the material ... Such segments will be eliminated as a crack-front"), with
 /// their reference lengths. Returns how many were dropped.
 pub fn prune_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, stopped: &std::collections::BTreeSet<u32>) -> usize {
-    let keep: Vec<bool> = crack.front.iter().map(|e| !(stopped.contains(&e[0]) && stopped.contains(&e[1]))).collect();
+    prune_front_where(crack, front_ref, |e| stopped.contains(&e[0]) && stopped.contains(&e[1]))
+}
+
+/// Drop from the front every edge `e` with `leaves(e)`, with its reference length.
+/// Returns how many were dropped ([`prune_front`] with the driver's own test of "at the
+/// boundary").
+pub fn prune_front_where(crack: &mut Crack3, front_ref: &mut Vec<f64>, leaves: impl Fn(&[u32; 2]) -> bool) -> usize {
+    let keep: Vec<bool> = crack.front.iter().map(|e| !leaves(e)).collect();
     let before = crack.front.len();
     let mut k = 0;
     crack.front.retain(|_| {
@@ -481,6 +488,47 @@ fn across_moves(e: Vector3, m: Vector3) -> f64 {
     }
 }
 
+/// Axis-aligned bounding box of a triangle.
+fn bbox(t: &[Vector3; 3]) -> (Vector3, Vector3) {
+    (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]))
+}
+
+/// Whether two boxes overlap (closed).
+fn overlap(a: &(Vector3, Vector3), b: &(Vector3, Vector3)) -> bool {
+    (0..3).all(|d| a.0[d] <= b.1[d] && b.0[d] <= a.1[d])
+}
+
+/// The indices of the candidate triangles `new` (corners at `new_idx`, crack-particle
+/// indices of `crack`, new ones past its end) that meet an existing triangle of `crack` not
+/// sharing a corner index with them (a shared corner is adjacency) or any triangle of
+/// `others` (no shared corners there).
+fn meeting_surfaces(crack: &Crack3, new: &[[Vector3; 3]], new_idx: &[[u32; 3]], others: &[&TriangleSurface]) -> BTreeSet<usize> {
+    let pts = &crack.surface.vertices;
+    let new_boxes: Vec<_> = new.iter().map(bbox).collect();
+    let mut meets = BTreeSet::new();
+    for tri in &crack.surface.triangles {
+        let old = tri.map(|n| pts[n as usize]);
+        let ob = bbox(&old);
+        for (i, nt) in new_idx.iter().enumerate() {
+            if overlap(&ob, &new_boxes[i]) && !nt.iter().any(|n| tri.contains(n)) && triangles_meet(&new[i], &old) {
+                meets.insert(i);
+            }
+        }
+    }
+    for s in others {
+        for tri in &s.triangles {
+            let old = tri.map(|n| s.vertices[n as usize]);
+            let ob = bbox(&old);
+            for i in 0..new.len() {
+                if overlap(&ob, &new_boxes[i]) && triangles_meet(&new[i], &old) {
+                    meets.insert(i);
+                }
+            }
+        }
+    }
+    meets
+}
+
 /// The moved front nodes whose new triangles meet an existing triangle (of this crack or
 /// `others`), and those whose new triangles meet another new triangle, other than at
 /// shared corners: (existing, new).
@@ -489,32 +537,10 @@ fn crossing_sources(crack: &Crack3, plan: &Plan, others: &[&TriangleSurface], fo
     let first_new = pts.len() as u32;
     let pos = |n: u32| if n < first_new { pts[n as usize] } else { plan.vertices[(n - first_new) as usize] };
     let new_tris: Vec<[Vector3; 3]> = plan.triangles.iter().map(|t| t.map(pos)).collect();
-    let bbox = |t: &[Vector3; 3]| (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]));
-    let overlap = |a: &(Vector3, Vector3), b: &(Vector3, Vector3)| (0..3).all(|d| a.0[d] <= b.1[d] && b.0[d] <= a.1[d]);
     let new_boxes: Vec<_> = new_tris.iter().map(bbox).collect();
     let mut existing = BTreeSet::new();
-    let mut flag = |i: usize| existing.extend(plan.sources[i].iter().copied());
-    // Against this crack's existing triangles (sharing a corner index is adjacency).
-    for tri in &crack.surface.triangles {
-        let old = tri.map(|n| pts[n as usize]);
-        let ob = bbox(&old);
-        for (i, nt) in plan.triangles.iter().enumerate() {
-            if overlap(&ob, &new_boxes[i]) && !nt.iter().any(|n| tri.contains(n)) && triangles_meet(&new_tris[i], &old) {
-                flag(i);
-            }
-        }
-    }
-    // Against the other cracks (no shared corners).
-    for s in others {
-        for tri in &s.triangles {
-            let old = tri.map(|n| s.vertices[n as usize]);
-            let ob = bbox(&old);
-            for i in 0..plan.triangles.len() {
-                if overlap(&ob, &new_boxes[i]) && triangles_meet(&new_tris[i], &old) {
-                    flag(i);
-                }
-            }
-        }
+    for i in meeting_surfaces(crack, &new_tris, &plan.triangles, others) {
+        existing.extend(plan.sources[i].iter().copied());
     }
     // New triangles among themselves.
     let mut new = BTreeSet::new();
@@ -568,6 +594,53 @@ pub fn material_angle(p: Vector3, v: Vector3, n: Vector3, normal: Vector3) -> f6
     std::f64::consts::TAU - crack
 }
 
+/// The front nodes (not in `skip`) at the apex of a tongue of material narrower than
+/// `max_angle` ([`fill_notches`]), most acute first: (angle, node, incoming front edge,
+/// outgoing front edge).
+fn notches(crack: &Crack3, max_angle: f64, skip: &BTreeSet<u32>) -> Vec<(f64, u32, usize, usize)> {
+    let pts = &crack.surface.vertices;
+    let mut incoming: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+    let mut outgoing: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+    for (k, &[a, b]) in crack.front.iter().enumerate() {
+        outgoing.entry(a).or_default().push(k);
+        incoming.entry(b).or_default().push(k);
+    }
+    let mut normals: BTreeMap<u32, Vector3> = BTreeMap::new();
+    for (t, tri) in crack.surface.triangles.iter().enumerate() {
+        let n = crack.surface.normal(t);
+        let len = n.norm();
+        if len > 0.0 {
+            for v in tri.iter().filter(|v| incoming.contains_key(v)) {
+                *normals.entry(*v).or_insert_with(Vector3::zeros) += n / len;
+            }
+        }
+    }
+    let mut candidates: Vec<(f64, u32, usize, usize)> = Vec::new();
+    for (&v, ins) in &incoming {
+        let (Some(outs), Some(normal)) = (outgoing.get(&v), normals.get(&v)) else { continue };
+        if ins.len() != 1 || outs.len() != 1 || skip.contains(&v) {
+            continue;
+        }
+        let (ki, ko) = (ins[0], outs[0]);
+        let (p, n) = (crack.front[ki][0], crack.front[ko][1]);
+        if p == n {
+            continue;
+        }
+        let angle = material_angle(pts[p as usize], pts[v as usize], pts[n as usize], *normal);
+        if angle < max_angle {
+            candidates.push((angle, v, ki, ko));
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    candidates
+}
+
+/// Whether [`fill_notches`] has a node to look at (a tongue narrower than `max_angle`):
+/// the driver asks before it copies the crack.
+pub fn has_notch(crack: &Crack3, max_angle: f64) -> bool {
+    !notches(crack, max_angle, &BTreeSet::new()).is_empty()
+}
+
 /// Notch rule (not in the paper; issue 17, case `tube_crack`): a front node v with one
 /// front edge in, p→v, and one out, v→n, where the material between the two edges makes
 /// an angle below `max_angle` (radians; [`material_angle`], the normal the mean unit
@@ -597,61 +670,15 @@ pub fn fill_notches(crack: &mut Crack3, front_ref: &mut Vec<f64>, others: &[&Tri
     let mut filled = Vec::new();
     let mut skip: BTreeSet<u32> = BTreeSet::new();
     loop {
-        let pts = &crack.surface.vertices;
-        let mut incoming: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
-        let mut outgoing: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
-        for (k, &[a, b]) in crack.front.iter().enumerate() {
-            outgoing.entry(a).or_default().push(k);
-            incoming.entry(b).or_default().push(k);
-        }
-        let mut normals: BTreeMap<u32, Vector3> = BTreeMap::new();
-        for (t, tri) in crack.surface.triangles.iter().enumerate() {
-            let n = crack.surface.normal(t);
-            let len = n.norm();
-            if len > 0.0 {
-                for v in tri.iter().filter(|v| incoming.contains_key(v)) {
-                    *normals.entry(*v).or_insert_with(Vector3::zeros) += n / len;
-                }
-            }
-        }
-        let mut candidates: Vec<(f64, u32, usize, usize)> = Vec::new();
-        for (&v, ins) in &incoming {
-            let (Some(outs), Some(normal)) = (outgoing.get(&v), normals.get(&v)) else { continue };
-            if ins.len() != 1 || outs.len() != 1 || skip.contains(&v) {
-                continue;
-            }
-            let (ki, ko) = (ins[0], outs[0]);
-            let (p, n) = (crack.front[ki][0], crack.front[ko][1]);
-            if p == n {
-                continue;
-            }
-            let angle = material_angle(pts[p as usize], pts[v as usize], pts[n as usize], *normal);
-            if angle < max_angle {
-                candidates.push((angle, v, ki, ko));
-            }
-        }
-        candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let candidates = notches(crack, max_angle, &skip);
         let Some(&(_, v, ki, ko)) = candidates.first() else { break };
+        let pts = &crack.surface.vertices;
         let (p, n) = (crack.front[ki][0], crack.front[ko][1]);
         let tri = [v, p, n];
         let t = tri.map(|i| pts[i as usize]);
         let degenerate = (t[1] - t[0]).cross(&(t[2] - t[0])).norm() == 0.0;
         let has_edge = crack.surface.triangles.iter().any(|u| u.contains(&p) && u.contains(&n));
-        let bbox = |t: &[Vector3; 3]| (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]));
-        let (lo, hi) = bbox(&t);
-        let near = |u: &[Vector3; 3]| {
-            let (ulo, uhi) = bbox(u);
-            (0..3).all(|d| lo[d] <= uhi[d] && ulo[d] <= hi[d])
-        };
-        let meets_own = crack.surface.triangles.iter().any(|u| !u.iter().any(|i| tri.contains(i)) && {
-            let old = u.map(|i| pts[i as usize]);
-            near(&old) && triangles_meet(&t, &old)
-        });
-        let meets_other = others.iter().any(|s| s.triangles.iter().any(|u| {
-            let old = u.map(|i| s.vertices[i as usize]);
-            near(&old) && triangles_meet(&t, &old)
-        }));
-        if degenerate || has_edge || meets_own || meets_other {
+        if degenerate || has_edge || !meeting_surfaces(crack, &[t], &[tri], others).is_empty() {
             skip.insert(v);
             continue;
         }

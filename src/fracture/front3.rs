@@ -417,7 +417,8 @@ pub fn front_frames_with(crack: &Crack3, tangents: &BTreeMap<u32, Vector3>, norm
 /// contour's resolution along x₃ as well as in the (x₁, x₂) plane. A split that varies
 /// smoothly along the front is changed by its curvature over ±L (K_II ∝ cos φ on an inclined
 /// penny of radius a: by a factor ≈ 1 − L²/(6a²) at the peak).
-pub fn average_openings(crack: &Crack3, own: &BTreeMap<u32, [f64; 3]>, v: u32, along: f64) -> [f64; 3] {
+/// `adjacent` is the front's adjacency ([`front_adjacency`]).
+pub fn average_openings(crack: &Crack3, adjacent: &BTreeMap<u32, Vec<u32>>, own: &BTreeMap<u32, [f64; 3]>, v: u32, along: f64) -> [f64; 3] {
     let pts = &crack.surface.vertices;
     // Shortest arc length from v to each front node within `along` (Dijkstra on the front's
     // edges through requested nodes; a front has few nodes within a few cells).
@@ -426,8 +427,7 @@ pub fn average_openings(crack: &Crack3, own: &BTreeMap<u32, [f64; 3]>, v: u32, a
     while let Some(i) = open.iter().enumerate().min_by(|a, b| dist[a.1].total_cmp(&dist[b.1]).then(a.1.cmp(b.1))).map(|(i, _)| i) {
         let u = open.swap_remove(i);
         let du = dist[&u];
-        for e in crack.front.iter().filter(|e| e.contains(&u)) {
-            let w = if e[0] == u { e[1] } else { e[0] };
+        for &w in adjacent.get(&u).into_iter().flatten() {
             if !own.contains_key(&w) {
                 continue;
             }
@@ -456,6 +456,16 @@ pub fn average_openings(crack: &Crack3, own: &BTreeMap<u32, [f64; 3]>, v: u32, a
     } else {
         [f64::NAN; 3]
     }
+}
+
+/// Each front node's neighbours along the front's edges, in the front's edge order.
+pub fn front_adjacency(crack: &Crack3) -> BTreeMap<u32, Vec<u32>> {
+    let mut adjacent: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for &[a, b] in &crack.front {
+        adjacent.entry(a).or_default().push(b);
+        adjacent.entry(b).or_default().push(a);
+    }
+    adjacent
 }
 
 /// The crack-face jump (above − below) of the crack surface at the point of the
@@ -813,8 +823,9 @@ impl Simulation<D3> {
         }
         if req.cod_along > 0.0 {
             let own: BTreeMap<u32, [f64; 3]> = out.iter().map(|r| (r.node, r.delta)).collect();
+            let adjacent = front_adjacency(crack);
             for r in out.iter_mut().filter(|r| r.delta.iter().all(|d| d.is_finite())) {
-                r.delta = average_openings(crack, &own, r.node, req.cod_along);
+                r.delta = average_openings(crack, &adjacent, &own, r.node, req.cod_along);
                 r.k = match self.material_near3(&r.x) {
                     Some(m) if r.delta.iter().all(|d| d.is_finite()) && r.j1.is_finite() => partition_k3(r.j1, r.delta, m.e, m.nu),
                     _ => [f64::NAN; 3],
@@ -910,11 +921,12 @@ mod tests {
         let crack = Crack3::new(TriangleSurface::new(v, t).unwrap(), ContactLaw::None, 0.0, 0.0, front);
         // Node 2j + 1 at y = j: δ₁ alternating ±1, δ₂ = y, δ₃ = 0.
         let own: BTreeMap<u32, [f64; 3]> = (0..=n).map(|j| (2 * j + 1, [if j % 2 == 0 { 1.0 } else { -1.0 }, j as f64, 0.0])).collect();
-        let mid = average_openings(&crack, &own, 7, 2.0);
+        let adjacent = front_adjacency(&crack);
+        let mid = average_openings(&crack, &adjacent, &own, 7, 2.0);
         assert!(mid[0].abs() < 1e-15 && (mid[1] - 3.0).abs() < 1e-15, "{mid:?}");
-        let end = average_openings(&crack, &own, 1, 2.0);
+        let end = average_openings(&crack, &adjacent, &own, 1, 2.0);
         assert!((end[0] - (1.0 - 0.5) / 1.5).abs() < 1e-15 && (end[1] - 0.5 / 1.5).abs() < 1e-15, "{end:?}");
-        assert_eq!(average_openings(&crack, &own, 7, 0.5), own[&7]);
+        assert_eq!(average_openings(&crack, &adjacent, &own, 7, 0.5), own[&7]);
     }
 
     /// The domain integral's weight: ∫ψ over a front running both ways is `along`, over one

@@ -152,6 +152,22 @@
 //!    pull-back along −n took a face node 0.6 mm off its face (with (a) on trimmed moves:
 //!    1.5 mm, at step 334, start 0.15 mm "beyond" the face only because the far face was
 //!    within a cell).
+//!    **Ends at a face**: the front edge from a node stopped for good on a free face (its
+//!    relative volume with the images below [`NEAR_BOUNDARY_VOLUME`] = ¾ and a face there,
+//!    not on a symmetry plane) to the front's growing end on the same face (face normals
+//!    within 45°, [`SAME_FACE_COS`]) has both ends at the boundary and leaves the front, as
+//!    an edge with both ends stopped does; the stopped node, now the front's end on that
+//!    face, grows on as a free-face end (status `growing` again: along the face, its image
+//!    counted). A front that reaches a face is a crack that meets the face there, and its
+//!    trace on the face extends as the front sweeps on. Not where the end is on another
+//!    face (the front has reached the edge where two faces meet: the slab's far edge, where
+//!    the node stopped on the far face has nowhere to grow), and not for edges pruned with
+//!    both ends stopped. Measured on `tube_crack` (`cramp run` to 49 µs, stop
+//!    39): the interior node next to the outer end, 0.13 cell inside the outer face, was
+//!    trimmed at the face at step 225 and stopped for good, while the end beyond it ran on
+//!    along the face; their edge, one end growing, was neither pruned nor dropped by the
+//!    sliver rule, and the stopped node stayed on the front to the end of the run — a piece
+//!    of front left at 29.7° round the tube while both branches ran past 190°.
 //! 6. **New surface** ([`advance_front`], 001 Fig. 3): before it, the targets of the
 //!    interior nodes of every run of consecutive moving front nodes are re-spaced along the
 //!    new front to the arc-length fractions they had ([`respace_moves`]; the reason, a
@@ -195,7 +211,7 @@
 //! exact sums in J and the relative volume, so a run is bit-identical for any particle
 //! order and thread count (tests/three_d_crack_reproducibility.rs).
 
-use crate::crack::advance3::{advance_front_stopped, fill_notches, fold_cos, prune_front, respace_moves, NOTCH_ANGLE_DEG};
+use crate::crack::advance3::{advance_front_stopped, fill_notches, fold_cos, has_notch, prune_front_where, respace_moves, NOTCH_ANGLE_DEG};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
@@ -281,6 +297,9 @@ pub struct FrontGrowth {
     pub near_edge: usize,
     /// Front nodes taken off the front by the notch rule ([`fill_notches`]), so far.
     pub filled: usize,
+    /// Stopped nodes that became a front end on a free face and grow on (item 5, "ends at
+    /// a face"), so far.
+    pub handed: usize,
 }
 
 /// One evaluation at one front node (a row of the 3D growth.csv).
@@ -362,7 +381,7 @@ impl Growth3 {
                 let nodes: BTreeMap<u32, NodeGrowth> =
                     ids.iter().enumerate().map(|(k, &v)| (v, NodeGrowth::start(k as u32))).collect();
                 let next_label = nodes.len() as u32;
-                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0, folded: 0, near_edge: 0, filled: 0 }
+                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0, folded: 0, near_edge: 0, filled: 0, handed: 0 }
             })
             .collect();
         Growth3 { toughness, cracks, records: Vec::new() }
@@ -586,7 +605,7 @@ impl Simulation<D3> {
             }
             // Tongues of material reaching back into the crack are cut at their apex
             // (notch rule, module doc item 7).
-            {
+            if has_notch(&self.cracks[c], NOTCH_ANGLE_DEG.to_radians()) {
                 let others: Vec<&crate::crack::surface::TriangleSurface> = self.cracks.iter().enumerate().filter(|&(o, _)| o != c).map(|(_, k)| &k.surface).collect();
                 let mut crack = self.cracks[c].clone();
                 let filled = fill_notches(&mut crack, &mut fg.front_ref, &others, NOTCH_ANGLE_DEG.to_radians());
@@ -595,14 +614,32 @@ impl Simulation<D3> {
                     fg.filled += filled.len();
                 }
             }
-            // Front edges with both ends stopped at the boundary leave the front.
+            // Front edges with both ends at the boundary leave the front: both stopped
+            // there, or one stopped on a free face and the other the front's end on the
+            // same face; the stopped node, left as the front's end on that face, grows on
+            // as a free-face end (module doc, item 5, "ends at a face").
             let stopped: BTreeSet<u32> = fg.nodes.iter().filter(|(_, n)| n.status == NodeStatus::AtEdge).map(|(&v, _)| v).collect();
             if !stopped.is_empty() {
+                let b = boundary.get_or_insert_with(|| self.material_boundary3());
+                let degree = front_degree(&self.cracks[c]);
+                let face_at = |v: u32| self.free_face_normal(b, self.cracks[c].surface.vertices[v as usize], h);
+                let face_ends: BTreeMap<u32, Vector3> = fg.nodes.iter().filter(|(v, n)| n.status == NodeStatus::Growing && degree.get(v) == Some(&1)).filter_map(|(&v, _)| face_at(v).map(|n| (v, n))).collect();
+                let stopped_on_face: BTreeMap<u32, Vector3> = if face_ends.is_empty() { BTreeMap::new() } else { stopped.iter().filter_map(|&v| face_at(v).map(|n| (v, n))).collect() };
+                // The stopped end a of an edge (a, e) to a face end e on the same face.
+                let beside = |a: u32, e: u32| matches!((stopped_on_face.get(&a), face_ends.get(&e)), (Some(na), Some(ne)) if na.dot(ne) >= SAME_FACE_COS);
+                let handed: BTreeSet<u32> = self.cracks[c].front.iter().filter_map(|e| if beside(e[0], e[1]) { Some(e[0]) } else if beside(e[1], e[0]) { Some(e[1]) } else { None }).collect();
                 let mut crack = self.cracks[c].clone();
-                let dropped = prune_front(&mut crack, &mut fg.front_ref, &stopped);
+                let dropped = prune_front_where(&mut crack, &mut fg.front_ref, |e| (stopped.contains(&e[0]) && stopped.contains(&e[1])) || beside(e[0], e[1]) || beside(e[1], e[0]));
                 if dropped > 0 {
                     self.cracks[c] = crack;
                     fg.pruned += dropped;
+                    let after = front_degree(&self.cracks[c]);
+                    for v in handed {
+                        if after.get(&v) == Some(&1) {
+                            fg.nodes.get_mut(&v).expect("front node").status = NodeStatus::Growing;
+                            fg.handed += 1;
+                        }
+                    }
                 }
             }
             let on_front: BTreeSet<u32> = self.cracks[c].front.iter().flatten().copied().collect();
@@ -711,6 +748,22 @@ impl Simulation<D3> {
     /// The symmetry planes near x (module doc, item 4): per axis c, the node plane
     /// x_c = const nearest to x, within two cells, whose grid node nearest to x has a
     /// prescribed velocity component c (a wall or roller), as (c, coordinate).
+    /// The outward normal of the free face on which crack particle position x lies (module
+    /// doc, item 5, "ends at a face"), if it does: not on a symmetry plane, its relative
+    /// volume (with the planes' images) below [`NEAR_BOUNDARY_VOLUME`] (the 2D driver's "on
+    /// the boundary", within 0.29 cell of a flat face) and a face there ([`free_face`]).
+    fn free_face_normal(&self, b: &MaterialBoundary3, x: Vector3, h: f64) -> Option<Vector3> {
+        let planes = self.symmetry_planes(&x);
+        if planes.iter().any(|&(a, p)| p == x[a]) {
+            return None;
+        }
+        let mat = self.material_index_near3(&x)?;
+        if mirrored_volume(b, mat, x, &planes) >= NEAR_BOUNDARY_VOLUME {
+            return None;
+        }
+        free_face(b, mat, x, &planes, h)
+    }
+
     pub fn symmetry_planes(&self, x: &Vector3) -> Vec<(usize, f64)> {
         let g = &self.grid;
         let mut ijk = [0i64; 3];
@@ -824,6 +877,10 @@ pub const START_OUTSIDE: f64 = 0.02;
 /// Re-spacing (module doc, item 6) changes a target only by more than this many cells:
 /// below it the change is rounding (a front that keeps its spacing is left to the bit).
 pub const RESPACE_TOL: f64 = 1e-6;
+
+/// Two points are on the same free face (module doc, item 5, "ends at a face") when their
+/// face normals make an angle below 45°: a face, not the edge where two faces meet.
+pub const SAME_FACE_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
 /// Relative-volume gradient (times the cell) above which a front end is on a free face.
 pub const FACE_GRADIENT: f64 = 0.25;

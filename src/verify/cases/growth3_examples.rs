@@ -81,6 +81,9 @@ pub struct ExampleRun {
     pub near_edge: usize,
     /// Front nodes taken off the front by the notch rule (growth3 module doc, item 7).
     pub filled: usize,
+    /// Stopped nodes left as a front end on a free face that grew on (growth3 module doc,
+    /// item 5, "ends at a face").
+    pub handed: usize,
     /// Largest distance outside the specimen of a crack particle made by growth, over all steps.
     pub max_outside: f64,
     pub increment: f64,
@@ -179,6 +182,7 @@ pub fn run_example(
         folded: g.cracks[0].folded,
         near_edge: g.cracks[0].near_edge,
         filled: g.cracks[0].filled,
+        handed: g.cracks[0].handed,
         max_outside,
         increment,
     })
@@ -406,7 +410,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. \
          Growth from t = {:.4} ms (check at step {}): {} node moves; front nodes {} at the start, at most {}, {} at the end \
          ({} front edges; {} splits, {} merges, {} edges pruned at the boundary, {} nodes stopped within reach of it, {} moves \
-         refused for folding the new strip and retried, {} nodes at the apex of a tongue of material filled; node status at the last check {:?}). \
+         refused for folding the new strip and retried, {} nodes at the apex of a tongue of material filled, {} stopped nodes left as a front end on a free face that grew on; node status at the last check {:?}). \
          Crack surface {} → {} triangles, {} → {} crack particles.",
         r.particles,
         r.steps,
@@ -428,6 +432,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         r.near_edge,
         r.folded,
         r.filled,
+        r.handed,
         statuses,
         r.initial_triangles,
         r.triangles,
