@@ -297,6 +297,9 @@ pub struct Simulation<S: Dimension = D2> {
     /// Side (+1 above, −1 below, 0 unknown) of each particle relative to each crack,
     /// index id·ncracks + c with the particle's id (checked mode, cracks only).
     pub(crate) crack_side: Vec<i8>,
+    /// 3D: the crack triangle each particle's known side was read from (same index as
+    /// `crack_side`; checked mode, cracks only; empty in 2D).
+    pub(crate) crack_side_triangle: Vec<u32>,
     /// Crack growth (001 §2.3), when a scene lets a crack grow; None otherwise.
     pub growth: Option<S::Growth>,
 }
@@ -364,6 +367,7 @@ impl<S: Dimension> Simulation<S> {
             momentum_conserving,
             energy_scale: 0.0,
             crack_side: Vec::new(),
+            crack_side_triangle: Vec::new(),
             growth: None,
         };
         let e = sim.energies();

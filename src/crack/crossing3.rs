@@ -482,7 +482,7 @@ impl Bvh {
 /// Squared computed distance from x to triangle (a, b, c) (the one every nearest query
 /// orders by).
 #[inline]
-fn distance_2(x: &Vector3, [a, b, c]: &[Vector3; 3]) -> f64 {
+pub(crate) fn distance_2(x: &Vector3, [a, b, c]: &[Vector3; 3]) -> f64 {
     (x - closest_on_triangle(x, a, b, c).0).norm_squared()
 }
 

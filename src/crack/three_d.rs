@@ -10,7 +10,7 @@
 //! §2.1): each function below is the 2D one of [`crate::crack`] with triangles for
 //! segments.
 
-use super::crossing3::{side_of_plane, Crossing3, Side3, SurfaceView, TriangleIndex};
+use super::crossing3::{distance_2, projects_into, side_of_plane, Crossing3, Side3, SurfaceView, TriangleIndex};
 use super::surface::TriangleSurface;
 use super::{ContactDetection, ContactLaw};
 use crate::check::CheckError;
@@ -722,9 +722,14 @@ fn too_many_fields(sim: &Simulation<D3>, node: usize, cracks: Vec<usize>) -> Che
 /// extrusion its 2D side (case `cracks_2d_3d`). Used for the nodes in Task 7 and the
 /// particles in the checked-mode crossing test.
 fn side_of(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> i8 {
-    let Some(t) = index.nearest_projecting(x, reach) else { return 0 };
+    side_and_triangle(crack, index, x, reach).0
+}
+
+/// [`side_of`] with the triangle it was read from (`u32::MAX` when unknown).
+fn side_and_triangle(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> (i8, u32) {
+    let Some(t) = index.nearest_projecting(x, reach) else { return (0, u32::MAX) };
     let [a, b, c] = crack.surface.triangles[t].map(|i| crack.surface.vertices[i as usize]);
-    side_of_plane(&a, &b, &c, x)
+    (side_of_plane(&a, &b, &c, x), t as u32)
 }
 
 /// After the Task 1 gather: every node has at most two fields (a node that one crack
@@ -979,41 +984,65 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
     sim.scratch.weights3 = weights;
 }
 
-/// Checked mode: no particle near a crack changes side (the 2D check with triangles). A
+/// Checked mode: no particle near a crack crosses it (the 2D check with triangles). A
 /// particle's side is known when it projects perpendicularly onto a triangle within two
-/// cells ([`side_of`]); passing round the front goes through "unknown".
+/// cells ([`side_of`]); passing round the front goes through "unknown". A side is compared
+/// with the one read before from the same part of the surface: the same triangle or one
+/// sharing a corner with it (a particle moves a small fraction of a triangle per step).
+/// When the nearest triangle is another part of the surface, the particle is checked
+/// against the plane of the triangle it was read from, as long as it still projects onto
+/// that triangle within reach (so a particle that crosses one sheet toward another, and
+/// comes out on the same side of the other, is caught), and then takes its side from the
+/// new one: a crack with two
+/// sheets over one another — two branches passing each other, a terrace of a growing
+/// front — has material between them that is above one sheet and below the other, and
+/// its side "flipped" whenever the nearer sheet changed (case `tube_crack`; stops 34–39
+/// reported such flips as crossings).
 fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     rebuild_indices(sim);
     let nc = sim.cracks.len();
     let reach = 2.0 * sim.grid.h.max();
     let p = &sim.particles;
-    if sim.crack_side.len() != p.len() * nc {
+    if sim.crack_side.len() != p.len() * nc || sim.crack_side_triangle.len() != p.len() * nc {
         sim.crack_side = vec![0; p.len() * nc];
+        sim.crack_side_triangle = vec![u32::MAX; p.len() * nc];
     }
     for (c, crack) in sim.cracks.iter().enumerate() {
         let index = &sim.scratch.crack_index3[c];
         let (lo, hi) = bounds(&crack.surface.vertices);
         let r = Vector3::repeat(reach);
         let (lo, hi) = (lo - r, hi + r);
-        let sides: Vec<i8> = (0..p.len())
+        let sides: Vec<(i8, u32)> = (0..p.len())
             .into_par_iter()
             .with_min_len(crate::step::PARTICLE_CHUNK)
             .map(|i| {
                 let x = p.x[i];
                 if (0..3).any(|a| x[a] < lo[a] || x[a] > hi[a]) {
-                    0
+                    (0, u32::MAX)
                 } else {
-                    side_of(crack, index, &x, reach)
+                    side_and_triangle(crack, index, &x, reach)
                 }
             })
             .collect();
-        for (i, side) in sides.into_iter().enumerate() {
+        let corners = |t: u32| crack.surface.triangles[t as usize];
+        for (i, (side, t)) in sides.into_iter().enumerate() {
             let slot = p.id[i] as usize * nc + c;
-            let before = sim.crack_side[slot];
-            if before != 0 && side != 0 && side != before {
-                return Err(CheckError::CrackCrossing { step: sim.step_count, particle: i, id: p.id[i], crack: c, before, after: side });
+            let (before, t_before) = (sim.crack_side[slot], sim.crack_side_triangle[slot]);
+            if before != 0 && side != 0 {
+                let (old, new) = (corners(t_before), corners(t));
+                let crossed = if old.iter().any(|v| new.contains(v)) {
+                    side != before
+                } else {
+                    let v = old.map(|k| crack.surface.vertices[k as usize]);
+                    let x = p.x[i];
+                    projects_into(&x, &v) && distance_2(&x, &v) < reach * reach && side_of_plane(&v[0], &v[1], &v[2], &x) != before
+                };
+                if crossed {
+                    return Err(CheckError::CrackCrossing { step: sim.step_count, particle: i, id: p.id[i], crack: c, before, after: side });
+                }
             }
             sim.crack_side[slot] = side;
+            sim.crack_side_triangle[slot] = t;
         }
     }
     Ok(())
@@ -1025,5 +1054,65 @@ impl Simulation<D3> {
     /// The segment–surface field assignment of Task 1 (cracks only).
     pub fn bench_crack_fields(&mut self) -> Result<(), CheckError> {
         assign_velocity_fields(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::check::CheckError;
+    use crate::dim::Vector3;
+    use crate::scene3d::Scene3;
+
+    /// A block with one crack of two parallel sheets, z = 1.6 and z = 2.6 (a mesh of two
+    /// disjoint squares reaching past the block), and one particle moved by hand between
+    /// checks (`check_crack_sides`). Between the sheets a particle is above the lower and
+    /// below the upper: when the nearer sheet changes, its side as read from the nearest
+    /// triangle flips without any crossing, and the check must not stop. Crossing either
+    /// sheet must stop it, also when the particle then lies nearer the other sheet on the
+    /// side it started on.
+    fn two_sheets() -> crate::simulation::Simulation<crate::dim::D3> {
+        let sheet = |z: f64| [[-1.0, -1.0, z], [5.0, -1.0, z], [5.0, 5.0, z], [-1.0, 5.0, z]];
+        let v: Vec<String> = sheet(1.6).iter().chain(sheet(2.6).iter()).map(|p| format!("[{}, {}, {}]", p[0], p[1], p[2])).collect();
+        let text = format!(
+            "[grid]\norigin = [-2.0, -2.0, -2.0]\nsize = [8.0, 8.0, 8.0]\ncell = [1.0, 1.0, 1.0]\n\
+             [solver]\nend_time = 1.0\nparticles_per_cell = 2\nchecked = true\n\
+             [[materials]]\nname = \"m\"\nE = 1.0\nnu = 0.3\nrho = 1.0\n\
+             [[bodies]]\nmaterial = \"m\"\nshape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [4.0, 4.0, 4.0] }} }}\n\
+             [[cracks]]\nsurface = {{ mesh = {{ vertices = [{}], triangles = [[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]] }} }}\n",
+            v.join(", ")
+        );
+        let mut sim = Scene3::from_toml(&text, "two_sheets", None).expect("scene").build().expect("simulation");
+        // Particle 0 (id 0, one crack: slot 0) is moved by hand: forget its recorded side.
+        assert_eq!(sim.particles.id[0], 0);
+        sim.crack_side[0] = 0;
+        sim
+    }
+
+    /// Put particle 0 at height z (x, y mid-block) and run the checked-mode side test.
+    fn move_and_check(sim: &mut crate::simulation::Simulation<crate::dim::D3>, z: f64) -> Result<(), CheckError> {
+        sim.particles.x[0] = Vector3::new(2.25, 1.75, z);
+        super::check_crack_sides(sim)
+    }
+
+    #[test]
+    fn a_particle_between_two_sheets_of_one_crack_does_not_cross_when_the_nearer_changes() {
+        let mut sim = two_sheets();
+        for z in [2.0, 2.2, 2.0, 2.3, 1.9] {
+            move_and_check(&mut sim, z).unwrap_or_else(|e| panic!("z = {z}: {e}"));
+        }
+    }
+
+    #[test]
+    fn crossing_a_sheet_is_caught_also_toward_the_other_sheet() {
+        // Through the upper sheet (the nearest triangle the same before and after).
+        let mut sim = two_sheets();
+        move_and_check(&mut sim, 2.4).unwrap();
+        assert!(matches!(move_and_check(&mut sim, 2.7), Err(CheckError::CrackCrossing { before: -1, after: 1, .. })));
+        // Through the lower sheet from below it to between the sheets, nearer the upper one:
+        // below the upper sheet is the side it had below the lower one, but the lower
+        // sheet's plane (the triangle its side was read from) was crossed.
+        let mut sim = two_sheets();
+        move_and_check(&mut sim, 1.4).unwrap();
+        assert!(matches!(move_and_check(&mut sim, 2.2), Err(CheckError::CrackCrossing { before: -1, after: -1, .. })));
     }
 }
