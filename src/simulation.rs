@@ -300,6 +300,9 @@ pub struct Simulation<S: Dimension = D2> {
     /// 3D: the crack triangle each particle's known side was read from (same index as
     /// `crack_side`; checked mode, cracks only; empty in 2D).
     pub(crate) crack_side_triangle: Vec<u32>,
+    /// 3D: each crack's triangle count at the last side check (checked mode; triangles are
+    /// only ever appended, so those at or past it were made since by growth).
+    pub(crate) crack_side_seen: Vec<usize>,
     /// Crack growth (001 §2.3), when a scene lets a crack grow; None otherwise.
     pub growth: Option<S::Growth>,
 }
@@ -368,6 +371,7 @@ impl<S: Dimension> Simulation<S> {
             energy_scale: 0.0,
             crack_side: Vec::new(),
             crack_side_triangle: Vec::new(),
+            crack_side_seen: Vec::new(),
             growth: None,
         };
         let e = sim.energies();

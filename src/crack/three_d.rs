@@ -988,8 +988,9 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
 /// particle's side is known when it projects perpendicularly onto a triangle within two
 /// cells ([`side_of`]); passing round the front goes through "unknown". A side is compared
 /// with the one read before from the same part of the surface: the same triangle or one
-/// sharing a corner with it (a particle moves a small fraction of a triangle per step).
-/// When the nearest triangle is another part of the surface, the particle is checked
+/// sharing a corner with it (a particle moves a small fraction of a triangle per step),
+/// made before the last check. When the nearest triangle is another part of the surface,
+/// or was made by growth since the last check, the particle is checked
 /// against the plane of the triangle it was read from, as long as it still projects onto
 /// that triangle within reach (so a particle that crosses one sheet toward another, and
 /// comes out on the same side of the other, is caught), and then takes its side from the
@@ -997,15 +998,22 @@ fn task7_move_cracks(sim: &mut Simulation<D3>) {
 /// sheets over one another — two branches passing each other, a terrace of a growing
 /// front — has material between them that is above one sheet and below the other, and
 /// its side "flipped" whenever the nearer sheet changed (case `tube_crack`; stops 34–39
-/// reported such flips as crossings).
+/// reported such flips as crossings). A new triangle may put a particle that has not moved
+/// on the other side from the triangle beside it: a front that kinks steeply folds its
+/// new strip round the particles next to it (case `tube_crack`, step 615: a node 0.35 mm
+/// from a particle moved 0.7 mm down and inward, θ = −23°, where the branch's K_II/K_I
+/// alternated ±0.1 … 0.3 from check to check); the crack grew past the particle, which did
+/// not cross it, and a particle that then moves through the new triangle is caught at the
+/// next check.
 fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
     rebuild_indices(sim);
     let nc = sim.cracks.len();
     let reach = 2.0 * sim.grid.h.max();
     let p = &sim.particles;
-    if sim.crack_side.len() != p.len() * nc || sim.crack_side_triangle.len() != p.len() * nc {
+    if sim.crack_side.len() != p.len() * nc || sim.crack_side_triangle.len() != p.len() * nc || sim.crack_side_seen.len() != nc {
         sim.crack_side = vec![0; p.len() * nc];
         sim.crack_side_triangle = vec![u32::MAX; p.len() * nc];
+        sim.crack_side_seen = vec![0; nc];
     }
     for (c, crack) in sim.cracks.iter().enumerate() {
         let index = &sim.scratch.crack_index3[c];
@@ -1030,7 +1038,8 @@ fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
             let (before, t_before) = (sim.crack_side[slot], sim.crack_side_triangle[slot]);
             if before != 0 && side != 0 {
                 let (old, new) = (corners(t_before), corners(t));
-                let crossed = if old.iter().any(|v| new.contains(v)) {
+                let made_before = (t as usize) < sim.crack_side_seen[c];
+                let crossed = if made_before && old.iter().any(|v| new.contains(v)) {
                     side != before
                 } else {
                     let v = old.map(|k| crack.surface.vertices[k as usize]);
@@ -1044,6 +1053,7 @@ fn check_crack_sides(sim: &mut Simulation<D3>) -> Result<(), CheckError> {
             sim.crack_side[slot] = side;
             sim.crack_side_triangle[slot] = t;
         }
+        sim.crack_side_seen[c] = crack.surface.triangles.len();
     }
     Ok(())
 }
@@ -1114,5 +1124,27 @@ mod tests {
         let mut sim = two_sheets();
         move_and_check(&mut sim, 1.4).unwrap();
         assert!(matches!(move_and_check(&mut sim, 2.2), Err(CheckError::CrackCrossing { before: -1, after: -1, .. })));
+    }
+
+    /// Growth folds a new triangle round a particle that does not move (a steeply kinked
+    /// front, case `tube_crack` step 615): the new triangle shares corners with the one the
+    /// particle's side was read from and puts it on the other side. The particle did not
+    /// cross the crack; moving through the new triangle afterwards is a crossing.
+    #[test]
+    fn a_new_triangle_folded_round_a_particle_is_not_a_crossing_but_moving_through_it_is() {
+        let mut sim = two_sheets();
+        move_and_check(&mut sim, 2.45).unwrap();
+        let below_sheet = sim.crack_side[0];
+        // New triangle on the upper sheet's edge y = -1 (corners 4, 5), dipping to z = 2.3
+        // at y = 3: 0.056 under the particle, nearer than the sheet (0.15 above it).
+        let c = &mut sim.cracks[0];
+        let x = Vector3::new(2.25, 3.0, 2.3);
+        c.surface.vertices.push(x);
+        c.above.push(x);
+        c.below.push(x);
+        c.surface.triangles.push([4, 5, 8]);
+        move_and_check(&mut sim, 2.45).unwrap_or_else(|e| panic!("a particle the crack grew past: {e}"));
+        assert_eq!(sim.crack_side[0], -below_sheet, "read from the new triangle, the side is the other");
+        assert!(matches!(move_and_check(&mut sim, 2.35), Err(CheckError::CrackCrossing { before: 1, after: -1, .. }) | Err(CheckError::CrackCrossing { before: -1, after: 1, .. })));
     }
 }
