@@ -307,6 +307,16 @@ pub fn penny_growth(overrides: &[(&str, &str)]) -> anyhow::Result<PennyGrowth> {
     })
 }
 
+/// The penny's quasi-static onset time (ms) on its linear ramp (`front_penny_growth_3d.toml`:
+/// end stress 1 MPa at 0.3 ms, K_Ic = 3 MPa√mm, a = 10 mm): K_I = 2σ√(a/π) × 1.1134 (Sneddon
+/// with the finite-cylinder factor of 3d-references.md §1.2 at a/R = 1/2, H/R = 1, as
+/// `front_j_penny`) reaches K_Ic at σ_c = 0.7551 MPa, t = 0.3 σ_c = 0.2265 ms.
+pub fn penny_onset() -> f64 {
+    let (a, kic, factor, ramp, stress) = (10.0_f64, 3.0, 1.1134, 0.3, 1.0);
+    let sigma_c = kic / (2.0 * (a / std::f64::consts::PI).sqrt() * factor);
+    ramp * sigma_c / stress
+}
+
 /// Case `front_growth_penny` (full suite only).
 pub fn run_penny(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let p = penny_growth(&[])?;
@@ -316,6 +326,7 @@ pub fn run_penny(_variant: Variant) -> anyhow::Result<CaseOutput> {
     out.measure("staircase", "a/h = 5", p.staircase, 0.0);
     out.measure("circular", "a/h = 5", p.residual / da, 0.0);
     out.measure("grown", "a/h = 5", p.increments as f64, 0.0);
+    out.measure("onset", "a/h = 5", p.first_growth, penny_onset());
     let (amin, amax) = p.advances.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &a| (l.min(a), h.max(a)));
     out.note(format!(
         "Largest |z| of a crack particle {:.2e} mm; largest spread of the front nodes' radii at a check while all grew {:.4} mm \
