@@ -215,14 +215,14 @@ fn strip(n: usize) -> (cramp::crack::three_d::Crack3, Vec<f64>) {
 /// the criterion's 70.5°) is made with either.
 #[test]
 fn nearly_vertical_triangle_is_a_fold_under_max_hoop_stress() {
-    use cramp::crack::advance3::{advance_front_stopped, fold_cos};
+    use cramp::crack::advance3::{advance_front_stopped, fold_cos, Clearance};
     use cramp::dim::Vector3;
     use std::collections::{BTreeMap, BTreeSet};
     let run = |d: Vector3, hoop_only: bool| {
         let (mut c, mut refs) = strip(2);
         let a = c.front[0][0];
         let to = c.surface.vertices[a as usize] + d;
-        let r = advance_front_stopped(&mut c, &mut refs, &BTreeMap::from([(a, to)]), &[], &BTreeSet::new(), fold_cos(hoop_only));
+        let r = advance_front_stopped(&mut c, &mut refs, &BTreeMap::from([(a, to)]), &[], &BTreeSet::new(), fold_cos(hoop_only), &Clearance::NONE);
         (r.folded.len(), r.new_triangles)
     };
     let steep = Vector3::new(0.1, 0.0, 1.0) * 0.5; // dihedral atan(10) = 84.3°
@@ -293,4 +293,36 @@ fn unwrapped_angles_follow_each_branch_past_half_a_turn() {
     }
     // The old split by the sign of x: every last node of the +z branch has x < 0.
     assert!(last.iter().all(|&(i, _)| (records[i].x.x > 0.0) == (records[i].x.z < 0.0)));
+}
+
+/// The "ends at a face" rule (growth3 module doc, item 5) on the front 0→1→…→5 of a
+/// crack ending on the face x = 50 (normal +x) at node 0 and on the face y = 50 (normal
+/// +y) at node 5: node 1 stopped on the +x face beside the growing end 0 on that face;
+/// node 2 growing inside; nodes 3 and 4 stopped, 4 on the +x face too (it reached the
+/// corner) beside end 5 on the +y face, 90° away (the edge where two faces meet). The edge
+/// 0–1 leaves the front and node 1 is handed the end; 3–4 leaves with both ends stopped,
+/// no end handed; 4–5 stays (node 4 has nowhere to grow), and so do 1–2 and 2–3.
+#[test]
+fn stopped_node_beside_the_end_on_the_same_face_takes_the_end() {
+    use cramp::fracture::growth3::edges_at_boundary;
+    use nalgebra::Vector3;
+    use std::collections::{BTreeMap, BTreeSet};
+    let front = [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5]];
+    let (x, y) = (Vector3::new(1.0, 0.0, 0.0), Vector3::new(0.0, 1.0, 0.0));
+    let stopped = BTreeSet::from([1, 3, 4]);
+    let stopped_on_face = BTreeMap::from([(1, x), (4, x)]);
+    let face_ends = BTreeMap::from([(0, x), (5, y)]);
+    let (leaves, handed) = edges_at_boundary(&front, &stopped, &stopped_on_face, &face_ends);
+    assert_eq!(leaves, BTreeSet::from([[0, 1], [3, 4]]));
+    assert_eq!(handed, BTreeSet::from([1]));
+    // Face normals 40° apart are one face (SAME_FACE_COS = cos 45°); 50° apart are not.
+    let turned = |deg: f64| Vector3::new(deg.to_radians().cos(), deg.to_radians().sin(), 0.0);
+    for (deg, same) in [(40.0, true), (50.0, false)] {
+        let face_ends = BTreeMap::from([(0, turned(deg))]);
+        let (leaves, handed) = edges_at_boundary(&front[..1], &BTreeSet::from([1]), &BTreeMap::from([(1, x)]), &face_ends);
+        assert_eq!((leaves.contains(&[0, 1]), handed.contains(&1)), (same, same), "{deg}°");
+    }
+    // The edge's direction does not matter: 1→0 as well as 0→1.
+    let (leaves, handed) = edges_at_boundary(&[[1, 0]], &BTreeSet::from([1]), &BTreeMap::from([(1, x)]), &BTreeMap::from([(0, x)]));
+    assert_eq!((leaves, handed), (BTreeSet::from([[1, 0]]), BTreeSet::from([1])));
 }

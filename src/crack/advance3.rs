@@ -151,6 +151,32 @@
 //!   opposed edges, and every triangle it would make is refused or a fold), and the rest
 //!   of the front passes it by.
 //!
+//! * **clearance** (not in the paper; issue 17, case `tube_crack`; [`Clearance`], given by
+//!   the growth driver): the new crack particles are moved along the normal of the new
+//!   triangles, by at most [`CLEARANCE_MAX_SHIFT`] clearances per round, until no particle centre
+//!   that projects onto a new triangle lies within the clearance of its plane (to a
+//!   thousandth of it after three rounds: a shift tilts the triangle, which the next round
+//!   takes up; a
+//!   [`CLEARANCE_CELLS`] = 2 % of a cell in the driver). A particle's side of its crack is
+//!   the side of its centre (Nairn 2003, Task 1), and the crack surface moves with the
+//!   nodes' centre-of-mass velocity, not with the particles beside it: a particle that a
+//!   new triangle passes through, or nearly, is on neither side to within that motion.
+//!   Measured on `tube_crack` (stop 40, `cramp run` to the stop, surfaces every 2 µs): the
+//!   −x branch, running round the tube nearly normal to its axis, settled at z ≈ −3.5 mm,
+//!   a plane of particle centres (2 × 2 × 2 per 2 mm cell); a triangle made at ≈ 111 µs
+//!   passed 0.010 mm (0.5 % of a cell) from particle 419468, which then lay 0.005–0.012 mm
+//!   above the crack surface as the crack's faces opened and closed by 0.006–0.016 mm, and
+//!   at 123.8 µs was 0.001 mm below it: it had changed fields and the checked mode stopped
+//!   the run (step 721). 2 % of a cell is 7 times that drift and a twenty-fifth of the
+//!   half-cell particle spacing; a move of this size is far below the discretisation of
+//!   the front (increments of a fraction of a cell). The crossing tests below see the
+//!   moved points. A crack particle on a symmetry plane stays on it, and a new triangle
+//!   whose new corners carry less than [`CLEARANCE_MIN_WEIGHT`] of the particle's
+//!   projection (the particle next to the old front edge, which the last advance cleared)
+//!   asks nothing. Shifts are chosen per crack particle as the largest asked for (ties to
+//!   the larger vector, component by component), so the result does not depend on the
+//!   order of the points.
+//!
 //! New crack particles start with both crack surfaces at their position (as a new 2D tip
 //! particle does). Everything is a deterministic function of the inputs.
 
@@ -183,6 +209,34 @@ pub fn fold_cos(hoop_only: bool) -> f64 {
     }
 }
 
+/// The new surface's least distance to particle centres, in cells (module doc,
+/// "clearance"; the growth driver's value).
+pub const CLEARANCE_CELLS: f64 = 0.02;
+/// The largest shift of a new crack particle in one round, in clearances (module doc,
+/// "clearance").
+pub const CLEARANCE_MAX_SHIFT: f64 = 4.0;
+/// The least share of a particle's projection on a new triangle that its new corners
+/// must carry for the triangle to be moved (module doc, "clearance").
+pub const CLEARANCE_MIN_WEIGHT: f64 = 0.25;
+/// Rounds of shifts (each from the positions the last left).
+const CLEARANCE_ROUNDS: usize = 3;
+
+/// Points the new surface of an advance keeps clear of (module doc, "clearance").
+#[derive(Clone, Copy, Debug)]
+pub struct Clearance<'a> {
+    /// Particle centres near the front (any order).
+    pub points: &'a [Vector3],
+    /// The least distance from a new triangle's plane to a point that projects onto it.
+    pub distance: f64,
+    /// Symmetry planes (axis, level): a new crack particle on one stays on it.
+    pub planes: &'a [(usize, f64)],
+}
+
+impl Clearance<'_> {
+    /// No clearance (the new crack particles stay where the moves put them).
+    pub const NONE: Clearance<'static> = Clearance { points: &[], distance: 0.0, planes: &[] };
+}
+
 /// What one advance did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AdvanceReport {
@@ -203,6 +257,10 @@ pub struct AdvanceReport {
     /// Front edges from a stopped node dropped instead of a sliver triangle (module doc,
     /// "sliver").
     pub dropped: usize,
+    /// New crack particles moved to clear a particle centre (module doc, "clearance").
+    pub cleared: usize,
+    /// (point, new triangle) pairs still within half the clearance after the shifts.
+    pub unclear: usize,
 }
 
 /// The triangles and front of one advance, before it is applied.
@@ -227,22 +285,33 @@ struct Plan {
 /// meet them). Returns what was done; the crack's boundary flags are recomputed.
 /// The fold test is the turn-over at 90° (`fold_cos` 0).
 pub fn advance_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface]) -> AdvanceReport {
-    advance_front_stopped(crack, front_ref, moves, others, &BTreeSet::new(), 0.0)
+    advance_front_stopped(crack, front_ref, moves, others, &BTreeSet::new(), 0.0, &Clearance::NONE)
 }
 
 /// [`advance_front`] with the front nodes stopped for good (`stopped`, which do not move):
 /// a front edge from a stopped node whose other end moves leaves the front instead of
 /// making a sliver triangle (module doc, "sliver"); a new triangle whose unit normal
 /// makes a cosine below `fold_cos` with that of the old triangle behind its front edge is
-/// a fold (module doc, "turn-over"; [`fold_cos`]).
-pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves: &BTreeMap<u32, Vector3>, others: &[&TriangleSurface], stopped: &BTreeSet<u32>, fold_cos: f64) -> AdvanceReport {
+/// a fold (module doc, "turn-over"; [`fold_cos`]); the new crack particles keep
+/// `clearance` from the points it lists (module doc, "clearance").
+pub fn advance_front_stopped(
+    crack: &mut Crack3,
+    front_ref: &mut Vec<f64>,
+    moves: &BTreeMap<u32, Vector3>,
+    others: &[&TriangleSurface],
+    stopped: &BTreeSet<u32>,
+    fold_cos: f64,
+    clearance: &Clearance,
+) -> AdvanceReport {
     assert_eq!(front_ref.len(), crack.front.len(), "one reference length per front edge");
     let mut moves = moves.clone();
     let mut refused = Vec::new();
     let mut folded = Vec::new();
+    let mut cleared;
     let plan = loop {
         let drop = slivers(crack, &moves, stopped);
-        let plan = plan(crack, front_ref, &moves, &drop);
+        let mut plan = plan(crack, front_ref, &moves, &drop);
+        cleared = clear_points(crack, &mut plan, clearance);
         let (existing, new) = crossing_sources(crack, &plan, others, fold_cos);
         if existing.is_empty() && new.is_empty() {
             break plan;
@@ -267,6 +336,8 @@ pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves
         folded,
         moved: plan.moved.clone(),
         dropped: plan.dropped,
+        cleared: cleared.0,
+        unclear: cleared.1,
     };
     let s = &mut crack.surface;
     s.vertices.extend(&plan.vertices);
@@ -281,17 +352,91 @@ pub fn advance_front_stopped(crack: &mut Crack3, front_ref: &mut Vec<f64>, moves
     report
 }
 
-/// Drop from the front every edge whose two ends are in `stopped` (001 §2.3.3: "If both
-/// ends of a crack-front segment are at or outside the MPM material boundary, that segment
-/// is beyond the material ... Such segments will be eliminated as a crack-front"), with
-/// their reference lengths. Returns how many were dropped.
-pub fn prune_front(crack: &mut Crack3, front_ref: &mut Vec<f64>, stopped: &std::collections::BTreeSet<u32>) -> usize {
-    prune_front_where(crack, front_ref, |e| stopped.contains(&e[0]) && stopped.contains(&e[1]))
+/// Move the new crack particles of `plan` along the new triangles' normals until no point
+/// of `clearance` that projects onto a new triangle lies within `clearance.distance` of
+/// its plane (module doc, "clearance"). Returns (crack particles moved, (point, triangle)
+/// pairs still within half the distance).
+fn clear_points(crack: &Crack3, plan: &mut Plan, clearance: &Clearance) -> (usize, usize) {
+    let dist = clearance.distance;
+    if clearance.points.is_empty() || dist <= 0.0 || plan.triangles.is_empty() {
+        return (0, 0);
+    }
+    let pts = &crack.surface.vertices;
+    let first_new = pts.len() as u32;
+    let mut moved = BTreeSet::new();
+    let mut unclear = 0;
+    for round in 0..=CLEARANCE_ROUNDS {
+        // Per new crack particle: the largest shift asked for (ties to the larger vector).
+        let mut want: BTreeMap<u32, Vector3> = BTreeMap::new();
+        let mut close = 0;
+        for tri in &plan.triangles {
+            let pos = |n: u32| if n < first_new { pts[n as usize] } else { plan.vertices[(n - first_new) as usize] };
+            let t = tri.map(pos);
+            let normal = (t[1] - t[0]).cross(&(t[2] - t[0]));
+            let area2 = normal.norm();
+            if area2 == 0.0 {
+                continue;
+            }
+            let n = normal / area2;
+            let (lo, hi) = bbox(&t);
+            let pad = Vector3::repeat(dist);
+            let (lo, hi) = (lo - pad, hi + pad);
+            for x in clearance.points {
+                if (0..3).any(|a| x[a] < lo[a] || x[a] > hi[a]) {
+                    continue;
+                }
+                let d = (x - t[0]).dot(&n);
+                if d.abs() >= dist {
+                    continue;
+                }
+                // Barycentric weights of the projection (sub-triangle areas over the whole).
+                let q = x - n * d;
+                let w = [(t[1] - q).cross(&(t[2] - q)).dot(&n), (t[2] - q).cross(&(t[0] - q)).dot(&n), (t[0] - q).cross(&(t[1] - q)).dot(&n)].map(|a| a / area2);
+                if w.iter().any(|&wi| wi < 0.0) {
+                    continue;
+                }
+                if d.abs() < 0.5 * dist {
+                    close += 1;
+                }
+                let w_new: f64 = (0..3).filter(|&k| tri[k] >= first_new).map(|k| w[k]).sum();
+                if round == CLEARANCE_ROUNDS || w_new < CLEARANCE_MIN_WEIGHT {
+                    continue;
+                }
+                // Move the plane away from the point: to the −n side of a point on +n.
+                let s = if d >= 0.0 { d - dist } else { dist + d };
+                let shift = n * (s / w_new).clamp(-CLEARANCE_MAX_SHIFT * dist, CLEARANCE_MAX_SHIFT * dist);
+                for &k in tri.iter().filter(|&&k| k >= first_new) {
+                    let e = want.entry(k - first_new).or_insert(shift);
+                    let larger = (shift.norm(), shift.x, shift.y, shift.z).partial_cmp(&(e.norm(), e.x, e.y, e.z)) == Some(std::cmp::Ordering::Greater);
+                    if larger {
+                        *e = shift;
+                    }
+                }
+            }
+        }
+        unclear = close;
+        if want.is_empty() {
+            break;
+        }
+        for (k, mut shift) in want {
+            let v = &mut plan.vertices[k as usize];
+            for &(a, level) in clearance.planes {
+                if v[a] == level {
+                    shift[a] = 0.0;
+                }
+            }
+            *v += shift;
+            moved.insert(k);
+        }
+    }
+    (moved.len(), unclear)
 }
 
-/// Drop from the front every edge `e` with `leaves(e)`, with its reference length.
-/// Returns how many were dropped ([`prune_front`] with the driver's own test of "at the
-/// boundary").
+/// Drop from the front every edge `e` with `leaves(e)`, with its reference length; the
+/// driver's test is "both ends at the boundary" (001 §2.3.3: "If both ends of a
+/// crack-front segment are at or outside the MPM material boundary, that segment is beyond
+/// the material ... Such segments will be eliminated as a crack-front"). Returns how many
+/// were dropped.
 pub fn prune_front_where(crack: &mut Crack3, front_ref: &mut Vec<f64>, leaves: impl Fn(&[u32; 2]) -> bool) -> usize {
     let keep: Vec<bool> = crack.front.iter().map(|e| !leaves(e)).collect();
     let before = crack.front.len();
@@ -773,11 +918,76 @@ mod tests {
         // with both ends stopped leave the front.
         let new_of = |old: u32| r.moved.iter().find(|m| m.0 == old).unwrap().1;
         let ends: std::collections::BTreeSet<u32> = [new_of(1), new_of(3), new_of(2 * n as u32 + 1)].into();
-        assert_eq!(prune_front(&mut c, &mut refs, &ends), 1, "only the edge from node 1 to node 3 has both ends stopped");
+        assert_eq!(prune_front_where(&mut c, &mut refs, |e| ends.contains(&e[0]) && ends.contains(&e[1])), 1, "only the edge from node 1 to node 3 has both ends stopped");
         assert_eq!((c.front.len(), refs.len()), (n - 1, n - 1));
     }
 
     /// One end of a segment moves: one triangle (001 Fig. 3, ABB′).
+    /// The signed distances from `x` to the planes of the triangles of `c` from `first` on
+    /// that it projects onto.
+    fn distances_to_new(c: &Crack3, first: usize, x: Vector3) -> Vec<f64> {
+        let s = &c.surface;
+        s.triangles[first..]
+            .iter()
+            .filter_map(|tri| {
+                let t = tri.map(|k| s.vertices[k as usize]);
+                let n = (t[1] - t[0]).cross(&(t[2] - t[0])).normalize();
+                let d = (x - t[0]).dot(&n);
+                let q = x - n * d;
+                (0..3).all(|k| (t[(k + 1) % 3] - q).cross(&(t[(k + 2) % 3] - q)).dot(&n) >= 0.0).then_some(d)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn new_surface_clears_particle_centres() {
+        // Particles just above and below the strip the front sweeps, one far off it and one
+        // next to the old surface; the front moves by half a unit along x.
+        let points = [Vector3::new(1.25, 0.3, 0.001), Vector3::new(1.3, -0.6, -0.005), Vector3::new(1.2, 0.1, 0.5), Vector3::new(0.5, 0.0, 0.001)];
+        let dist = 0.02;
+        let run = |points: &[Vector3], planes: &[(usize, f64)]| {
+            let (mut c, mut refs) = strip(2);
+            let first = c.surface.triangles.len();
+            let moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
+            let r = advance_front_stopped(&mut c, &mut refs, &moves, &[], &BTreeSet::new(), 0.0, &Clearance { points, distance: dist, planes });
+            check_valid(&c);
+            (c, first, r)
+        };
+        let (c, first, r) = run(&points, &[]);
+        // Without the clearance both particles lie within it.
+        let (mut bare, mut refs) = strip(2);
+        let moves = moves_of(&bare, |x| x + Vector3::new(0.5, 0.0, 0.0));
+        advance_front(&mut bare, &mut refs, &moves, &[]);
+        for x in &points[..2] {
+            assert!(distances_to_new(&bare, first, *x).iter().any(|d| d.abs() < dist), "{x:?} is near the unmoved strip");
+        }
+        // With it, each keeps its side and the clearance (to 10⁻³ of it: a shift tilts the
+        // triangle a little, which the next rounds take up), by a move of at most
+        // CLEARANCE_MAX_SHIFT clearances.
+        assert!(r.cleared > 0 && r.unclear == 0, "{r:?}");
+        for (x, side) in [(points[0], 1.0), (points[1], -1.0)] {
+            let d = distances_to_new(&c, first, x);
+            assert!(!d.is_empty() && d.iter().all(|d| d * side >= dist * (1.0 - 1e-3)), "{x:?}: distances {d:?}");
+        }
+        let old = c.surface.vertices.len() - r.new_vertices;
+        for (k, v) in c.surface.vertices[old..].iter().enumerate() {
+            let m = bare.surface.vertices[old + k];
+            assert!((v - m).norm() <= CLEARANCE_MAX_SHIFT * dist * (1.0 + 1e-12) , "crack particle {k} moved from {m:?} to {v:?}");
+            assert_eq!(c.above[old + k], *v);
+            assert_eq!(c.below[old + k], *v);
+        }
+        // The far particle and the one by the old surface ask nothing: alone, nothing moves.
+        let (alone, _, r2) = run(&points[2..], &[]);
+        assert_eq!((r2.cleared, alone.surface.vertices.clone()), (0, bare.surface.vertices.clone()));
+        // The points' order does not matter, to the bit.
+        let reversed: Vec<Vector3> = points.iter().rev().copied().collect();
+        let (c2, _, _) = run(&reversed, &[]);
+        assert_eq!(c2.surface.vertices, c.surface.vertices);
+        // A crack particle on a symmetry plane stays on it: here the plane of the crack.
+        let (pinned, _, _) = run(&points, &[(2, 0.0)]);
+        assert!(pinned.surface.vertices.iter().all(|v| v.z == 0.0));
+    }
+
     #[test]
     fn one_end_moves_one_triangle() {
         let (mut c, mut refs) = strip(2);

@@ -58,7 +58,7 @@
 //!    where the relative volume of the node's material is below ½ is trimmed at the
 //!    boundary and the node stops there for good (status `edge`, as a 2D tip); a node
 //!    already outside does not move. Front edges with both ends stopped at the boundary
-//!    leave the front ([`prune_front`]); the rest of the front goes on.
+//!    leave the front ([`prune_front_where`]); the rest of the front goes on.
 //!    **Free faces**: an end of an open front that is not on a symmetry plane lies where
 //!    the crack's edge leaves the material, on a free face, where the relative volume is ½
 //!    up to the strain: the test above would stop it at its first move (a stretched face
@@ -176,7 +176,11 @@
 //!    end moving, four with both, five when the new edge exceeds twice its reference length
 //!    (split, a new front node), one and a merged node when it falls below a quarter. A
 //!    node whose new triangles would meet the existing surface of any crack is refused and
-//!    stops for good (status `crack`), as a 2D tip. A node whose new triangles meet only
+//!    stops for good (status `crack`), as a 2D tip. The new crack particles are first
+//!    moved along the new triangles' normals, by a few hundredths of a cell at most, so
+//!    that no particle centre lies within [`CLEARANCE_CELLS`] = 2 % of a cell of the new
+//!    surface ([`Clearance`]; why, and the tube's particle that was left on its crack, in
+//!    the [`crate::crack::advance3`] module doc, "clearance"). A node whose new triangles meet only
 //!    another new triangle of the same advance (the new strip folds over itself: its
 //!    heading and a neighbour's converge or cross within one increment) is refused this
 //!    time and **retried at its next check** (status `growing`): the fold says nothing
@@ -211,7 +215,7 @@
 //! exact sums in J and the relative volume, so a run is bit-identical for any particle
 //! order and thread count (tests/three_d_crack_reproducibility.rs).
 
-use crate::crack::advance3::{advance_front_stopped, fill_notches, fold_cos, has_notch, prune_front_where, respace_moves, NOTCH_ANGLE_DEG};
+use crate::crack::advance3::{advance_front_stopped, fill_notches, fold_cos, has_notch, prune_front_where, respace_moves, Clearance, CLEARANCE_CELLS, CLEARANCE_MAX_SHIFT, NOTCH_ANGLE_DEG};
 use crate::dim::{GridGeometry, Vector3, D3};
 use crate::fracture::boundary3::{trim_by, MaterialBoundary3};
 use crate::fracture::front3::{front_tangents, partition_k3_moving, FrontRequest};
@@ -300,6 +304,10 @@ pub struct FrontGrowth {
     /// Stopped nodes that became a front end on a free face and grow on (item 5, "ends at
     /// a face"), so far.
     pub handed: usize,
+    /// New crack particles moved to clear a particle centre, and (particle, triangle) pairs
+    /// left within half the clearance (item 6, "clearance"), so far.
+    pub cleared: usize,
+    pub unclear: usize,
 }
 
 /// One evaluation at one front node (a row of the 3D growth.csv).
@@ -381,7 +389,7 @@ impl Growth3 {
                 let nodes: BTreeMap<u32, NodeGrowth> =
                     ids.iter().enumerate().map(|(k, &v)| (v, NodeGrowth::start(k as u32))).collect();
                 let next_label = nodes.len() as u32;
-                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0, folded: 0, near_edge: 0, filled: 0, handed: 0 }
+                FrontGrowth { crack: c, request, settings, front_ref, nodes, next_label, splits: 0, merges: 0, pruned: 0, folded: 0, near_edge: 0, filled: 0, handed: 0, cleared: 0, unclear: 0 }
             })
             .collect();
         Growth3 { toughness, cracks, records: Vec::new() }
@@ -449,7 +457,7 @@ impl Simulation<D3> {
                 let mut status = node.status;
                 if status == NodeStatus::Growing {
                     let planes = self.symmetry_planes(&fr.x);
-                    let on_plane = planes.iter().any(|&(a, p)| p == fr.x[a]);
+                    let on_plane = on_symmetry_plane(&planes, &fr.x);
                     let b = boundary.get_or_insert_with(|| self.material_boundary3());
                     // A front end on a free face (module doc, item 5): along the face,
                     // the face's image counted in the boundary test (not when the
@@ -551,8 +559,20 @@ impl Simulation<D3> {
                 let stopped: BTreeSet<u32> = rows.iter().filter(|r| r.status != NodeStatus::Growing && !moves.contains_key(&r.vertex)).map(|r| r.vertex).collect();
                 // Fold test (advance3 module doc, "turn-over"): 80.5° when every material
                 // with a toughness grows by maximum hoop stress, 90° otherwise.
-                let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped, fold_cos(growth_hoop_only));
+                // The new surface keeps clear of particle centres (advance3 module doc,
+                // "clearance"): those in the box of the front and the targets.
+                let reach = Vector3::repeat((CLEARANCE_MAX_SHIFT + 1.0) * CLEARANCE_CELLS * h);
+                let (lo, hi) = crack.front.iter().flatten().map(|&v| crack.surface.vertices[v as usize]).chain(moves.values().copied()).fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, u), x| (l.inf(&x), u.sup(&x)));
+                let (lo, hi) = (lo - reach, hi + reach);
+                let near: Vec<Vector3> = self.particles.x.iter().filter(|x| (0..3).all(|a| x[a] >= lo[a] && x[a] <= hi[a])).copied().collect();
+                let mut planes: Vec<(usize, f64)> = moves.values().flat_map(|x| self.symmetry_planes(x)).collect();
+                planes.sort_by(|a, b| a.partial_cmp(b).expect("finite planes"));
+                planes.dedup();
+                let clearance = Clearance { points: &near, distance: CLEARANCE_CELLS * h, planes: &planes };
+                let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped, fold_cos(growth_hoop_only), &clearance);
                 fg.pruned += report.dropped;
+                fg.cleared += report.cleared;
+                fg.unclear += report.unclear;
                 self.cracks[c] = crack;
                 fg.splits += report.splits;
                 fg.merges += report.merges;
@@ -625,11 +645,9 @@ impl Simulation<D3> {
                 let face_at = |v: u32| self.free_face_normal(b, self.cracks[c].surface.vertices[v as usize], h);
                 let face_ends: BTreeMap<u32, Vector3> = fg.nodes.iter().filter(|(v, n)| n.status == NodeStatus::Growing && degree.get(v) == Some(&1)).filter_map(|(&v, _)| face_at(v).map(|n| (v, n))).collect();
                 let stopped_on_face: BTreeMap<u32, Vector3> = if face_ends.is_empty() { BTreeMap::new() } else { stopped.iter().filter_map(|&v| face_at(v).map(|n| (v, n))).collect() };
-                // The stopped end a of an edge (a, e) to a face end e on the same face.
-                let beside = |a: u32, e: u32| matches!((stopped_on_face.get(&a), face_ends.get(&e)), (Some(na), Some(ne)) if na.dot(ne) >= SAME_FACE_COS);
-                let handed: BTreeSet<u32> = self.cracks[c].front.iter().filter_map(|e| if beside(e[0], e[1]) { Some(e[0]) } else if beside(e[1], e[0]) { Some(e[1]) } else { None }).collect();
+                let (leaves, handed) = edges_at_boundary(&self.cracks[c].front, &stopped, &stopped_on_face, &face_ends);
                 let mut crack = self.cracks[c].clone();
-                let dropped = prune_front_where(&mut crack, &mut fg.front_ref, |e| (stopped.contains(&e[0]) && stopped.contains(&e[1])) || beside(e[0], e[1]) || beside(e[1], e[0]));
+                let dropped = prune_front_where(&mut crack, &mut fg.front_ref, |e| leaves.contains(e));
                 if dropped > 0 {
                     self.cracks[c] = crack;
                     fg.pruned += dropped;
@@ -745,16 +763,13 @@ impl Simulation<D3> {
         MaterialBoundary3::new(&self.grid, &p.x, &volume, &p.material)
     }
 
-    /// The symmetry planes near x (module doc, item 4): per axis c, the node plane
-    /// x_c = const nearest to x, within two cells, whose grid node nearest to x has a
-    /// prescribed velocity component c (a wall or roller), as (c, coordinate).
     /// The outward normal of the free face on which crack particle position x lies (module
     /// doc, item 5, "ends at a face"), if it does: not on a symmetry plane, its relative
     /// volume (with the planes' images) below [`NEAR_BOUNDARY_VOLUME`] (the 2D driver's "on
     /// the boundary", within 0.29 cell of a flat face) and a face there ([`free_face`]).
     fn free_face_normal(&self, b: &MaterialBoundary3, x: Vector3, h: f64) -> Option<Vector3> {
         let planes = self.symmetry_planes(&x);
-        if planes.iter().any(|&(a, p)| p == x[a]) {
+        if on_symmetry_plane(&planes, &x) {
             return None;
         }
         let mat = self.material_index_near3(&x)?;
@@ -764,6 +779,9 @@ impl Simulation<D3> {
         free_face(b, mat, x, &planes, h)
     }
 
+    /// The symmetry planes near x (module doc, item 4): per axis c, the node plane
+    /// x_c = const nearest to x, within two cells, whose grid node nearest to x has a
+    /// prescribed velocity component c (a wall or roller), as (c, coordinate).
     pub fn symmetry_planes(&self, x: &Vector3) -> Vec<(usize, f64)> {
         let g = &self.grid;
         let mut ijk = [0i64; 3];
@@ -824,6 +842,42 @@ pub fn mirrored_volume(b: &MaterialBoundary3, mat: usize, x: Vector3, planes: &[
         sum += b.relative_volume(mat, y);
     }
     sum
+}
+
+/// The front edges that leave the front at the boundary (module doc, item 5), and the
+/// stopped nodes handed the front's end on a face ("ends at a face"): an edge leaves when
+/// both its ends are `stopped`, or when one end is stopped on a free face
+/// (`stopped_on_face`, its outward normal) and the other is a growing front end on the
+/// same face (`face_ends`, normals within 45°: [`SAME_FACE_COS`]); that stopped end is
+/// handed the end.
+pub fn edges_at_boundary(
+    front: &[[u32; 2]],
+    stopped: &BTreeSet<u32>,
+    stopped_on_face: &BTreeMap<u32, Vector3>,
+    face_ends: &BTreeMap<u32, Vector3>,
+) -> (BTreeSet<[u32; 2]>, BTreeSet<u32>) {
+    // The stopped end a of an edge (a, e) to a face end e on the same face.
+    let beside = |a: u32, e: u32| matches!((stopped_on_face.get(&a), face_ends.get(&e)), (Some(na), Some(ne)) if na.dot(ne) >= SAME_FACE_COS);
+    let (mut leaves, mut handed) = (BTreeSet::new(), BTreeSet::new());
+    for e in front {
+        let by = if beside(e[0], e[1]) {
+            Some(e[0])
+        } else if beside(e[1], e[0]) {
+            Some(e[1])
+        } else {
+            None
+        };
+        if by.is_some() || (stopped.contains(&e[0]) && stopped.contains(&e[1])) {
+            leaves.insert(*e);
+        }
+        handed.extend(by);
+    }
+    (leaves, handed)
+}
+
+/// Whether x lies on one of `planes` (axis, coordinate; [`Simulation::symmetry_planes`]).
+pub fn on_symmetry_plane(planes: &[(usize, f64)], x: &Vector3) -> bool {
+    planes.iter().any(|&(a, p)| p == x[a])
 }
 
 /// The number of front edges at each front node (1 at the ends of an open front).

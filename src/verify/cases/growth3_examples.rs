@@ -84,6 +84,10 @@ pub struct ExampleRun {
     /// Stopped nodes left as a front end on a free face that grew on (growth3 module doc,
     /// item 5, "ends at a face").
     pub handed: usize,
+    /// New crack particles moved to clear a particle centre, and (particle, triangle) pairs
+    /// left within half the clearance (advance3 module doc, "clearance").
+    pub cleared: usize,
+    pub unclear: usize,
     /// Largest distance outside the specimen of a crack particle made by growth, over all steps.
     pub max_outside: f64,
     pub increment: f64,
@@ -183,6 +187,8 @@ pub fn run_example(
         near_edge: g.cracks[0].near_edge,
         filled: g.cracks[0].filled,
         handed: g.cracks[0].handed,
+        cleared: g.cracks[0].cleared,
+        unclear: g.cracks[0].unclear,
         max_outside,
         increment,
     })
@@ -410,7 +416,7 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. \
          Growth from t = {:.4} ms (check at step {}): {} node moves; front nodes {} at the start, at most {}, {} at the end \
          ({} front edges; {} splits, {} merges, {} edges pruned at the boundary, {} nodes stopped within reach of it, {} moves \
-         refused for folding the new strip and retried, {} nodes at the apex of a tongue of material filled, {} stopped nodes left as a front end on a free face that grew on; node status at the last check {:?}). \
+         refused for folding the new strip and retried, {} nodes at the apex of a tongue of material filled, {} stopped nodes left as a front end on a free face that grew on, {} new crack particles moved to clear a particle centre ({} particle–triangle pairs left within half the clearance); node status at the last check {:?}). \
          Crack surface {} → {} triangles, {} → {} crack particles.",
         r.particles,
         r.steps,
@@ -433,6 +439,8 @@ pub fn run_rod(_variant: Variant) -> anyhow::Result<CaseOutput> {
         r.folded,
         r.filled,
         r.handed,
+        r.cleared,
+        r.unclear,
         statuses,
         r.initial_triangles,
         r.triangles,
