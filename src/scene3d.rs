@@ -963,6 +963,20 @@ impl Scene3 {
         let body_force = self.bodies.iter().map(|b| v3(b.body_force)).collect();
         let thickness = vec![1.0; self.bodies.len()];
         let cracks = self.crack_surfaces(&grid, &meshes)?;
+        for (c, crack) in cracks.iter().enumerate() {
+            if let Some((p, t)) = crate::crack::three_d::first_particle_on3(&crack.surface, &particles.x, 1e-9 * hmin) {
+                let x = particles.x[p];
+                return Err(invalid(
+                    format!("cracks[{c}].surface"),
+                    format!(
+                        "the crack passes through the particle at ({:e}, {:e}, {:e}) of bodies[{}] (crack triangle {t}; within round-off), which is then on \
+                         neither side of it (or on one by round-off only); move the crack off the planes of particles (they lie at the centres of the {n} × {n} × {n} \
+                         sub-cells of each cell), e.g. onto a grid plane",
+                        x.x, x.y, x.z, particles.body[p]
+                    ),
+                ));
+            }
+        }
         let requests = self.front_requests(&cracks)?;
         let mut sim = Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options);
         sim.growth = self.growth3(&sim, &requests);

@@ -212,6 +212,39 @@ fn closed_crack_mesh_is_refused_and_says_why() {
     expect_invalid(&t, None, "cracks[0].surface.mesh", &["closed surface", "no front", "its own body"]);
 }
 
+/// A crack through particle centres (within round-off) is refused as in 2D: each such
+/// particle is on neither side of it. The base scene has 2 × 2 × 2 particles per 0.125
+/// cell, at 0.03125 + k · 0.0625.
+#[test]
+fn crack_through_particle_centres_is_refused() {
+    let t = with_crack("surface = { polygon = { points = [[0.2, 0.40625, 0.2], [0.2, 0.40625, 0.8], [0.8, 0.40625, 0.8], [0.8, 0.40625, 0.2]] } }");
+    expect_invalid(&t, None, "cracks[0].surface", &["passes through the particle", "neither side", "grid plane"]);
+    // An oblique triangle whose centroid is the particle centre (0.46875, 0.46875, 0.46875).
+    let t = with_crack(
+        "surface = { mesh = { vertices = [[0.31875, 0.41875, 0.36875], [0.61875, 0.46875, 0.36875], [0.46875, 0.51875, 0.66875]], triangles = [[0, 1, 2]] } }",
+    );
+    expect_invalid(&t, None, "cracks[0].surface", &["passes through the particle", "crack triangle 0"]);
+    // A hair off the same centres builds.
+    let t = with_crack("surface = { polygon = { points = [[0.2, 0.4063, 0.2], [0.2, 0.4063, 0.8], [0.8, 0.4063, 0.8], [0.8, 0.4063, 0.2]] } }");
+    let Ok(AnyScene::D3(s)) = AnyScene::from_toml(&t, "crack", None) else { panic!("a valid 3D scene") };
+    s.build().expect("a crack off the particle centres builds");
+}
+
+/// Every 3D scene file of verification/ builds (so a new scene check cannot leave a
+/// verification scene refused until the full suite reaches it).
+#[test]
+fn every_3d_verification_scene_builds() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("verification");
+    let mut built = 0;
+    for (name, text) in cramp::verify::scene_file::FILES {
+        if let AnyScene::D3(s) = AnyScene::from_toml(text, name, Some(&dir)).unwrap_or_else(|e| panic!("{name}: {e}")) {
+            s.build().unwrap_or_else(|e| panic!("{name}: {e}"));
+            built += 1;
+        }
+    }
+    assert!(built >= 30, "only {built} 3D scenes");
+}
+
 #[test]
 fn crack_point_outside_the_grid() {
     let t = with_crack("surface = { polygon = { points = [[0.2, 0.4, 0.2], [0.2, 0.4, 0.8], [1.5, 0.4, 0.8], [0.8, 0.4, 0.2]] } }");

@@ -726,6 +726,29 @@ fn side_of(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> i8
 }
 
 /// [`side_of`] with the triangle it was read from (`u32::MAX` when unknown).
+/// The first point of `xs` (in order) within `tol` of the triangle surface, with the
+/// triangle it is near (the 3D form of [`super::first_particle_on`]: a scene whose crack
+/// passes through a particle centre is refused, the particle being on neither side of it,
+/// or on one by round-off only).
+pub fn first_particle_on3(surface: &TriangleSurface, xs: &[Vector3], tol: f64) -> Option<(usize, usize)> {
+    if surface.triangles.is_empty() {
+        return None;
+    }
+    let (lo, hi) = bounds(&surface.vertices);
+    let r = Vector3::repeat(tol);
+    let (lo, hi) = (lo - r, hi + r);
+    let mut index = TriangleIndex::default();
+    // Buckets of the surface's own size: the query looks at the buckets within `tol`.
+    let size = (hi - lo).max().max(tol);
+    index.rebuild(&surface.vertices, &surface.triangles, size / 64.0);
+    xs.iter().enumerate().find_map(|(p, x)| {
+        if (0..3).any(|a| x[a] < lo[a] || x[a] > hi[a]) {
+            return None;
+        }
+        index.nearest(x, tol).map(|(t, _)| (p, t))
+    })
+}
+
 fn side_and_triangle(crack: &Crack3, index: &TriangleIndex, x: &Vector3, reach: f64) -> (i8, u32) {
     let Some(t) = index.nearest_projecting(x, reach) else { return (0, u32::MAX) };
     let [a, b, c] = crack.surface.triangles[t].map(|i| crack.surface.vertices[i as usize]);

@@ -561,7 +561,7 @@ pub fn run_tube(_variant: Variant) -> anyhow::Result<CaseOutput> {
     out.note(format!(
         "Run: {} particles, {} steps to t = {:.4} ms of {:.4} ms in {:.0} s (peak resident memory of the process {}){}. Growth from \
          t = {:.4} ms; front nodes {} at the start, at most {}, {} at the end; {} splits, {} merges, {} edges pruned; {} rows refused \
-         at a crack. Median |K_II|/K_I {:.3} at onset, {:.3} late; grown surface's mean normal {:.1}° from the axis (initial 45°). \
+         at a crack; {} stopped nodes handed the front's end on a face; {} new crack particles moved to clear a particle centre ({} particle–triangle pairs left within half the clearance). Median |K_II|/K_I {:.3} at onset, {:.3} late; grown surface's mean normal {:.1}° from the axis (initial 45°). \
          Ends (branches by their angle unwrapped over the checks, each at the last check at which it had front nodes: t = {:.1} and {:.1} µs): the +x branch's least travel {:.1}°, the −x branch's {:.1}° round the tube from the crack's middle, mean z {:.2} and {:.2} mm.",
         r.particles,
         r.steps,
@@ -578,6 +578,9 @@ pub fn run_tube(_variant: Variant) -> anyhow::Result<CaseOutput> {
         r.merges,
         r.pruned,
         refused,
+        r.handed,
+        r.cleared,
+        r.unclear,
         m.onset,
         m.late,
         tilt,
