@@ -170,10 +170,17 @@
 //!   the run (step 721). 2 % of a cell is 7 times that drift and a twenty-fifth of the
 //!   half-cell particle spacing; a move of this size is far below the discretisation of
 //!   the front (increments of a fraction of a cell). The crossing tests below see the
-//!   moved points. A crack particle on a symmetry plane stays on it, and a new triangle
-//!   whose new corners carry less than [`CLEARANCE_MIN_WEIGHT`] of the particle's
-//!   projection (the particle next to the old front edge, which the last advance cleared)
-//!   asks nothing. Shifts are chosen per crack particle as the largest asked for (ties to
+//!   moved points. A particle ahead of the new front, up to one increment beyond a new
+//!   triangle's front edge on that triangle's extended plane, is kept clear too: the next
+//!   advance builds its triangles from that edge, and their corners there are old by then.
+//!   Measured on `tube_crack` with the clearance only on the new triangles (`cramp run`
+//!   to its stop at step 739, surfaces every 2 µs): particle 414033 projected onto a new
+//!   triangle with 0.81 of its weight on the corner made one advance earlier (the new
+//!   corners carried 0.19 < [`CLEARANCE_MIN_WEIGHT`], so it asked nothing), lay 0.0009 mm
+//!   from it, drifted ±0.01 mm and changed side at 126.9 µs. A crack particle on a
+//!   symmetry plane stays on it, and a new triangle whose new corners carry less than
+//!   [`CLEARANCE_MIN_WEIGHT`] of the particle's projection (the particle next to the old
+//!   front edge, kept clear of the last advance's extended plane) asks nothing. Shifts are chosen per crack particle as the largest asked for (ties to
 //!   the larger vector, component by component), so the result does not depend on the
 //!   order of the points.
 //!
@@ -230,11 +237,14 @@ pub struct Clearance<'a> {
     pub distance: f64,
     /// Symmetry planes (axis, level): a new crack particle on one stays on it.
     pub planes: &'a [(usize, f64)],
+    /// How far beyond the new front the new triangles' planes are kept clear too (the
+    /// next advance builds there; the driver's increment).
+    pub ahead: f64,
 }
 
 impl Clearance<'_> {
     /// No clearance (the new crack particles stay where the moves put them).
-    pub const NONE: Clearance<'static> = Clearance { points: &[], distance: 0.0, planes: &[] };
+    pub const NONE: Clearance<'static> = Clearance { points: &[], distance: 0.0, planes: &[], ahead: 0.0 };
 }
 
 /// What one advance did.
@@ -365,6 +375,8 @@ fn clear_points(crack: &Crack3, plan: &mut Plan, clearance: &Clearance) -> (usiz
     let first_new = pts.len() as u32;
     let mut moved = BTreeSet::new();
     let mut unclear = 0;
+    let sorted = |e: [u32; 2]| [e[0].min(e[1]), e[0].max(e[1])];
+    let new_front: BTreeSet<[u32; 2]> = plan.front.iter().map(|(e, _)| sorted(*e)).collect();
     for round in 0..=CLEARANCE_ROUNDS {
         // Per new crack particle: the largest shift asked for (ties to the larger vector).
         let mut want: BTreeMap<u32, Vector3> = BTreeMap::new();
@@ -378,8 +390,12 @@ fn clear_points(crack: &Crack3, plan: &mut Plan, clearance: &Clearance) -> (usiz
                 continue;
             }
             let n = normal / area2;
+            // The corner opposite the triangle's edge on the new front, if it has one, and
+            // the least weight of that corner at a point up to `ahead` beyond the edge.
+            let front_corner = (0..3).find(|&k| new_front.contains(&sorted([tri[(k + 1) % 3], tri[(k + 2) % 3]])));
+            let beyond = front_corner.map_or((0, 0.0), |k| (k, -clearance.ahead * (t[(k + 2) % 3] - t[(k + 1) % 3]).norm() / area2));
             let (lo, hi) = bbox(&t);
-            let pad = Vector3::repeat(dist);
+            let pad = Vector3::repeat(dist + if front_corner.is_some() { clearance.ahead } else { 0.0 });
             let (lo, hi) = (lo - pad, hi + pad);
             for x in clearance.points {
                 if (0..3).any(|a| x[a] < lo[a] || x[a] > hi[a]) {
@@ -392,10 +408,14 @@ fn clear_points(crack: &Crack3, plan: &mut Plan, clearance: &Clearance) -> (usiz
                 // Barycentric weights of the projection (sub-triangle areas over the whole).
                 let q = x - n * d;
                 let w = [(t[1] - q).cross(&(t[2] - q)).dot(&n), (t[2] - q).cross(&(t[0] - q)).dot(&n), (t[0] - q).cross(&(t[1] - q)).dot(&n)].map(|a| a / area2);
-                if w.iter().any(|&wi| wi < 0.0) {
+                let on = w.iter().all(|&wi| wi >= 0.0);
+                // Ahead of the new front: on the triangle's plane extended past its front
+                // edge by up to `ahead` (the next advance's new surface starts there).
+                let ahead = !on && front_corner.is_some() && (0..3).all(|k| if k == beyond.0 { w[k] >= beyond.1 } else { w[k] >= 0.0 });
+                if !on && !ahead {
                     continue;
                 }
-                if d.abs() < 0.5 * dist {
+                if on && d.abs() < 0.5 * dist {
                     close += 1;
                 }
                 let w_new: f64 = (0..3).filter(|&k| tri[k] >= first_new).map(|k| w[k]).sum();
@@ -949,7 +969,7 @@ mod tests {
             let (mut c, mut refs) = strip(2);
             let first = c.surface.triangles.len();
             let moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
-            let r = advance_front_stopped(&mut c, &mut refs, &moves, &[], &BTreeSet::new(), 0.0, &Clearance { points, distance: dist, planes });
+            let r = advance_front_stopped(&mut c, &mut refs, &moves, &[], &BTreeSet::new(), 0.0, &Clearance { points, distance: dist, planes, ahead: 0.0 });
             check_valid(&c);
             (c, first, r)
         };
@@ -986,6 +1006,28 @@ mod tests {
         // A crack particle on a symmetry plane stays on it: here the plane of the crack.
         let (pinned, _, _) = run(&points, &[(2, 0.0)]);
         assert!(pinned.surface.vertices.iter().all(|v| v.z == 0.0));
+        // A particle a fifth of a unit ahead of the new front (x = 1.5), just below its
+        // plane: left alone without `ahead`, kept clear of the extended plane with it.
+        let x = Vector3::new(1.7, 0.4, -0.003);
+        for (ahead, cleared) in [(0.0, false), (0.5, true)] {
+            let (mut c, mut refs) = strip(2);
+            let moves = moves_of(&c, |x| x + Vector3::new(0.5, 0.0, 0.0));
+            let r = advance_front_stopped(&mut c, &mut refs, &moves, &[], &BTreeSet::new(), 0.0, &Clearance { points: &[x], distance: dist, planes: &[], ahead });
+            assert_eq!(r.cleared > 0, cleared, "ahead {ahead}: {r:?}");
+            // The extended plane of the triangles at the front, at the particle.
+            let front_tris: Vec<f64> = c.surface.triangles[first..]
+                .iter()
+                .filter(|t| t.iter().filter(|&&k| c.front.iter().flatten().any(|&f| f == k)).count() == 2)
+                .map(|t| {
+                    let v = t.map(|k| c.surface.vertices[k as usize]);
+                    let n = (v[1] - v[0]).cross(&(v[2] - v[0])).normalize();
+                    (x - v[0]).dot(&n)
+                })
+                .collect();
+            if cleared {
+                assert!(front_tris.iter().all(|d| *d <= -dist * (1.0 - 1e-3)), "{front_tris:?}");
+            }
+        }
     }
 
     #[test]

@@ -561,14 +561,14 @@ impl Simulation<D3> {
                 // with a toughness grows by maximum hoop stress, 90° otherwise.
                 // The new surface keeps clear of particle centres (advance3 module doc,
                 // "clearance"): those in the box of the front and the targets.
-                let reach = Vector3::repeat((CLEARANCE_MAX_SHIFT + 1.0) * CLEARANCE_CELLS * h);
+                let reach = Vector3::repeat((CLEARANCE_MAX_SHIFT + 1.0) * CLEARANCE_CELLS * h + da);
                 let (lo, hi) = crack.front.iter().flatten().map(|&v| crack.surface.vertices[v as usize]).chain(moves.values().copied()).fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(l, u), x| (l.inf(&x), u.sup(&x)));
                 let (lo, hi) = (lo - reach, hi + reach);
                 let near: Vec<Vector3> = self.particles.x.iter().filter(|x| (0..3).all(|a| x[a] >= lo[a] && x[a] <= hi[a])).copied().collect();
                 let mut planes: Vec<(usize, f64)> = moves.values().flat_map(|x| self.symmetry_planes(x)).collect();
                 planes.sort_by(|a, b| a.partial_cmp(b).expect("finite planes"));
                 planes.dedup();
-                let clearance = Clearance { points: &near, distance: CLEARANCE_CELLS * h, planes: &planes };
+                let clearance = Clearance { points: &near, distance: CLEARANCE_CELLS * h, planes: &planes, ahead: da };
                 let report = advance_front_stopped(&mut crack, &mut fg.front_ref, &moves, &others, &stopped, fold_cos(growth_hoop_only), &clearance);
                 fg.pruned += report.dropped;
                 fg.cleared += report.cleared;
