@@ -177,7 +177,7 @@
 //!    (split, a new front node), one and a merged node when it falls below a quarter. A
 //!    node whose new triangles would meet the existing surface of any crack is refused and
 //!    stops for good (status `crack`), as a 2D tip. The new crack particles are first
-//!    moved along the new triangles' normals, by a few hundredths of a cell at most, so
+//!    moved along the new triangles' normals, by at most 0.08 cell per round (3 rounds), so
 //!    that no particle centre lies within [`CLEARANCE_CELLS`] = 2 % of a cell of the new
 //!    surface ([`Clearance`]; why, and the tube's particle that was left on its crack, in
 //!    the [`crate::crack::advance3`] module doc, "clearance"). A node whose new triangles meet only
