@@ -381,8 +381,8 @@ fn clear_points(crack: &Crack3, plan: &mut Plan, clearance: &Clearance) -> (usiz
         // Per new crack particle: the largest shift asked for (ties to the larger vector).
         let mut want: BTreeMap<u32, Vector3> = BTreeMap::new();
         let mut close = 0;
+        let pos = |n: u32| if n < first_new { pts[n as usize] } else { plan.vertices[(n - first_new) as usize] };
         for tri in &plan.triangles {
-            let pos = |n: u32| if n < first_new { pts[n as usize] } else { plan.vertices[(n - first_new) as usize] };
             let t = tri.map(pos);
             let normal = (t[1] - t[0]).cross(&(t[2] - t[0]));
             let area2 = normal.norm();
@@ -390,12 +390,13 @@ fn clear_points(crack: &Crack3, plan: &mut Plan, clearance: &Clearance) -> (usiz
                 continue;
             }
             let n = normal / area2;
-            // The corner opposite the triangle's edge on the new front, if it has one, and
+            // The corner opposite the triangle's edge on the new front, if it has one, with
             // the least weight of that corner at a point up to `ahead` beyond the edge.
-            let front_corner = (0..3).find(|&k| new_front.contains(&sorted([tri[(k + 1) % 3], tri[(k + 2) % 3]])));
-            let beyond = front_corner.map_or((0, 0.0), |k| (k, -clearance.ahead * (t[(k + 2) % 3] - t[(k + 1) % 3]).norm() / area2));
+            let beyond = (0..3)
+                .find(|&k| new_front.contains(&sorted([tri[(k + 1) % 3], tri[(k + 2) % 3]])))
+                .map(|k| (k, -clearance.ahead * (t[(k + 2) % 3] - t[(k + 1) % 3]).norm() / area2));
             let (lo, hi) = bbox(&t);
-            let pad = Vector3::repeat(dist + if front_corner.is_some() { clearance.ahead } else { 0.0 });
+            let pad = Vector3::repeat(dist + if beyond.is_some() { clearance.ahead } else { 0.0 });
             let (lo, hi) = (lo - pad, hi + pad);
             for x in clearance.points {
                 if (0..3).any(|a| x[a] < lo[a] || x[a] > hi[a]) {
@@ -411,7 +412,7 @@ fn clear_points(crack: &Crack3, plan: &mut Plan, clearance: &Clearance) -> (usiz
                 let on = w.iter().all(|&wi| wi >= 0.0);
                 // Ahead of the new front: on the triangle's plane extended past its front
                 // edge by up to `ahead` (the next advance's new surface starts there).
-                let ahead = !on && front_corner.is_some() && (0..3).all(|k| if k == beyond.0 { w[k] >= beyond.1 } else { w[k] >= 0.0 });
+                let ahead = !on && beyond.is_some_and(|(c, least)| (0..3).all(|k| w[k] >= if k == c { least } else { 0.0 }));
                 if !on && !ahead {
                     continue;
                 }
