@@ -262,6 +262,12 @@ pub struct FractureSpec3 {
     /// [`crate::fracture::front3`]).
     #[serde(default)]
     pub method: FrontMethod,
+    /// How K_I, K_II, K_III are taken from the fields: "opening" (default; J₁ split by the
+    /// crack opening `cod_behind` cells behind the node, 004 eqs. 14–15 with mode III) or
+    /// "interaction" (domain integral only: the interaction integral over the same domain
+    /// with the unit-K fields of each mode, static; [`crate::fracture::front3::aux_fields`]).
+    #[serde(default)]
+    pub split: FrontSplit,
     /// Domain integral only: width of q's fall to 0, in cells (default 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ramp: Option<f64>,
@@ -315,6 +321,17 @@ pub enum FrontMethod {
     /// The equivalent domain integral over the particles (includes the inertia terms and
     /// the variation along the front that the planar contour leaves out).
     Domain,
+}
+
+/// `cracks[].fracture.split` of a 3D crack.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum FrontSplit {
+    /// J₁ split by the crack opening behind the node.
+    #[default]
+    Opening,
+    /// The interaction integral over the domain (method = "domain").
+    Interaction,
 }
 
 /// The front nodes a `fracture` table asks for.
@@ -1026,6 +1043,12 @@ impl Scene3 {
                 if let Some(ramp) = fr.ramp {
                     positive(&f("fracture.ramp"), ramp)?;
                 }
+                if fr.split == FrontSplit::Interaction && fr.method != FrontMethod::Domain {
+                    return Err(invalid(f("fracture.split"), "\"interaction\" is an integral over the domain: set method = \"domain\"".to_string()));
+                }
+                if fr.split == FrontSplit::Interaction && fr.growth.is_some() {
+                    return Err(invalid(f("fracture.split"), "\"interaction\" is the static interaction integral (no inertia or crack-speed terms): a growing front splits by the opening".to_string()));
+                }
                 if fr.method == FrontMethod::Domain && fr.domain_ramp() > fr.radius {
                     return Err(invalid(f("fracture.ramp"), format!("{} cells is more than the domain's radius ({} cells)", fr.domain_ramp(), fr.radius)));
                 }
@@ -1232,7 +1255,7 @@ impl Scene3 {
                 return Err(invalid(format!("cracks[{i}].fracture.nodes"), format!("selects no front node (the crack has {} front edges)", crack.front.len())));
             }
             let domain = (fr.method == FrontMethod::Domain).then(|| crate::fracture::front3::DomainShape { inner: (fr.radius - fr.domain_ramp()) * h, outer: fr.radius * h, along: fr.domain_along() * h });
-            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, cod_along: fr.cod_along * h, tangents: Default::default(), normals: Default::default(), domain }));
+            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, cod_along: fr.cod_along * h, tangents: Default::default(), normals: Default::default(), domain, interaction: fr.split == FrontSplit::Interaction }));
         }
         Ok(out)
     }

@@ -283,6 +283,9 @@ fn bad_fracture_tables_and_unknown_detection_are_refused_in_3d() {
     expect_invalid(&fr("along = 2.0"), None, "cracks[0].fracture.method", &["domain"]);
     expect_invalid(&fr("ramp = 1.0"), None, "cracks[0].fracture.method", &["domain"]);
     expect_message(&fr("method = \"ring\""), &["method"]);
+    // The interaction integral is a domain integral, and static.
+    expect_invalid(&fr("split = \"interaction\""), None, "cracks[0].fracture.split", &["domain"]);
+    expect_message(&fr("split = \"cod\""), &["split", "opening", "interaction"]);
     expect_invalid(&fr("nodes = { box = { min = [0.0, 0.0, 0.0], max = [1.0, -1.0, 1.0] } }"), None, "cracks[0].fracture.nodes.box", &["exceeds"]);
     // GOOD_CRACK reaches past the body on every side: it has no front in the material.
     expect_invalid(&fr(""), None, "cracks[0].fracture.nodes", &["no front node"]);
@@ -293,6 +296,8 @@ fn bad_fracture_tables_and_unknown_detection_are_refused_in_3d() {
     expect_invalid(&tough, None, "cracks[0].fracture.growth.release", &["2D only"]);
     let cohesive = tough.replace("release = {}", "cohesive = { strength = 1.0 }");
     expect_invalid(&cohesive, None, "cracks[0].fracture.growth.cohesive", &["2D only"]);
+    let growing = tough.replace("growth = { release = {} }", "method = \"domain\", split = \"interaction\", growth = {}");
+    expect_invalid(&growing, None, "cracks[0].fracture.split", &["growing front"]);
 }
 
 #[test]

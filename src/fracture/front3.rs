@@ -211,6 +211,9 @@ pub struct FrontRequest {
     /// J₁ by the equivalent domain integral over the particles ([`DomainShape`]) instead of
     /// the paper's circular contour; None: the contour (001 Fig. 2).
     pub domain: Option<DomainShape>,
+    /// With `domain`: K_I, K_II, K_III by the interaction integral over the same domain
+    /// ([`aux_fields`]) instead of J₁ split by the crack opening.
+    pub interaction: bool,
 }
 
 /// The weight function q = φ(ρ) ψ(s) of the equivalent domain integral at a front node
@@ -747,9 +750,16 @@ impl Simulation<D3> {
 
     /// J₁ at a front node by the equivalent domain integral over the particles (module
     /// doc, "Domain integral"): (J₁, its static part without the inertia terms).
-    fn domain_j3(&self, x0: &Vector3, frame: &FrontFrame, shape: &DomainShape) -> (f64, f64) {
+    /// Returns (J₁, its static part without the inertia terms, the interaction integrals):
+    /// with `aux` = Some((μ, ν)) the three static interaction
+    /// integrals I_m = Σ_p V_p [σ_ij u⁽ᵐ⁾_i,1 + σ⁽ᵐ⁾_ij u_i,1 − σ⁽ᵐ⁾_kl ε_kl δ_1j] ∂q/∂x_j / ∫ψ ds
+    /// of the particles' fields with the unit-K auxiliary fields of mode m = I, II, III
+    /// ([`aux_fields`]) in the node's frame (module doc, "Interaction integral").
+    fn domain_j3(&self, x0: &Vector3, frame: &FrontFrame, shape: &DomainShape, aux: Option<(f64, f64)>) -> (f64, f64, [f64; 3]) {
         let p = &self.particles;
         let (mut stat, mut dynm) = (ExactSum::new(), ExactSum::new());
+        let mut inter = [ExactSum::new(), ExactSum::new(), ExactSum::new()];
+        let rot = Tensor3::from_rows(&[frame.e1.transpose(), frame.e2.transpose(), frame.e3.transpose()]);
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         let e1 = frame.e1;
         for i in 0..p.len() {
@@ -770,13 +780,30 @@ impl Simulation<D3> {
             let energy = 0.5 * s.ddot(&p.strain[i]) + 0.5 * rho * vel.norm_squared();
             stat.add(p.vol0[i] * (s.dot_vec(&gq).dot(&du1) - energy * e1.dot(&gq)));
             dynm.add(p.mass[i] * q * (du1.dot(&acl) - (grad_v * e1).dot(&vel)));
+            if let Some((mu, nu)) = aux {
+                // Everything in the node's frame: d, ∇q, σ, ∇u (H_ij = ∂u_i/∂x_j) and ε.
+                let (dl, gl) = (rot * d, rot * gq);
+                let r = (dl.x * dl.x + dl.y * dl.y).sqrt();
+                if r > 0.0 {
+                    let sm = Tensor3::new(s.xx, s.xy, s.xz, s.xy, s.yy, s.yz, s.xz, s.yz, s.zz);
+                    let sl = rot * sm * rot.transpose();
+                    let hl = rot * p.grad_u[i] * rot.transpose();
+                    let el = 0.5 * (hl + hl.transpose());
+                    let du1l = hl.column(0).into_owned();
+                    let sg = sl * gl;
+                    for (m, acc) in inter.iter_mut().enumerate() {
+                        let (sa, dua) = aux_fields(m, r, dl.y.atan2(dl.x), mu, nu);
+                        acc.add(p.vol0[i] * (sg.dot(&dua) + (sa * gl).dot(&du1l) - sa.component_mul(&el).sum() * gl.x));
+                    }
+                }
+            }
         }
         let len = shape.hat_integral(lo, hi);
         if !(len > 0.0) {
-            return (f64::NAN, f64::NAN);
+            return (f64::NAN, f64::NAN, [f64::NAN; 3]);
         }
         let st = stat.value() / len;
-        (st + dynm.value() / len, st)
+        (st + dynm.value() / len, st, std::array::from_fn(|m| inter[m].value() / len))
     }
 
     /// The material at x ([`Simulation::material_index_near3`]).
@@ -800,9 +827,17 @@ impl Simulation<D3> {
                 continue;
             };
             let (mut j1, mut j2, j1_line, j2_line);
+            let mut k_interaction = None;
             if let Some(shape) = &req.domain {
                 // The domain form gives J₁ only: J₂ would need the crack faces' terms.
-                (j1, j1_line) = self.domain_j3(&x0, &frame, shape);
+                let aux = if req.interaction { self.material_near3(&x0).map(|m| (m.shear_modulus(), m.nu)) } else { None };
+                let inter;
+                (j1, j1_line, inter) = self.domain_j3(&x0, &frame, shape, aux);
+                if let Some((mu, nu)) = aux {
+                    // I_m = 2K_m/E′ (m = I, II), K_III/μ (plane strain, E′ = 2μ/(1 − ν)).
+                    let e_prime = 2.0 * mu / (1.0 - nu);
+                    k_interaction = Some([0.5 * e_prime * inter[0], 0.5 * e_prime * inter[1], mu * inter[2]]);
+                }
                 (j2, j2_line) = (nan, nan);
             } else {
                 (j1_line, j2_line) = circle_line_term(&x0, &frame, req.radius, req.intervals, |x, upper| self.sample3(&mut cache, x, upper));
@@ -815,13 +850,14 @@ impl Simulation<D3> {
             }
             let q = x0 - frame.e1 * req.cod_behind;
             let delta = opening_at(crack, &q).or_else(|| opening_nearest(crack, &q)).map_or([nan; 3], |d| [d.dot(&frame.e1), d.dot(&frame.e2), d.dot(&frame.e3)]);
-            let k = match self.material_near3(&x0) {
-                Some(m) if delta.iter().all(|d| d.is_finite()) => partition_k3(j1, delta, m.e, m.nu),
+            let k = match (k_interaction, self.material_near3(&x0)) {
+                (Some(k), _) => k,
+                (None, Some(m)) if delta.iter().all(|d| d.is_finite()) => partition_k3(j1, delta, m.e, m.nu),
                 _ => [nan; 3],
             };
             out.push(FrontResult { time: self.time, crack: c, node: v, x: x0, frame, j1, j2, j1_line, j2_line, delta, k });
         }
-        if req.cod_along > 0.0 {
+        if req.cod_along > 0.0 && !(req.interaction && req.domain.is_some()) {
             let own: BTreeMap<u32, [f64; 3]> = out.iter().map(|r| (r.node, r.delta)).collect();
             let adjacent = front_adjacency(crack);
             for r in out.iter_mut().filter(|r| r.delta.iter().all(|d| d.is_finite())) {
@@ -898,6 +934,71 @@ impl Simulation<D2> {
     }
 }
 
+/// The auxiliary fields of the interaction integral: the near-front field of unit K in
+/// mode `m` (0: I, 1: II, plane strain; 2: III, antiplane shear) at local polar
+/// coordinates (r, θ) in the front's (x₁, x₂) plane (Williams; Anderson, *Fracture
+/// Mechanics* tables 2.1–2.2): the stress σ⁽ᵐ⁾ and ∂u⁽ᵐ⁾/∂x₁, local components, shear
+/// modulus μ, Poisson's ratio ν, κ = 3 − 4ν. With u = √r·f(θ)·A, ∂u/∂x₁ =
+/// (A/√r)(cos θ·f/2 − sin θ·f′).
+pub fn aux_fields(m: usize, r: f64, th: f64, mu: f64, nu: f64) -> (Tensor3, Vector3) {
+    let c = 1.0 / (2.0 * PI * r).sqrt();
+    let (s2, c2) = (0.5 * th).sin_cos();
+    let (s32, c32) = (1.5 * th).sin_cos();
+    let (st, ct) = th.sin_cos();
+    let mut sig = Tensor3::zeros();
+    match m {
+        0 => {
+            sig[(0, 0)] = c * c2 * (1.0 - s2 * s32);
+            sig[(1, 1)] = c * c2 * (1.0 + s2 * s32);
+            sig[(0, 1)] = c * s2 * c2 * c32;
+            sig[(2, 2)] = nu * (sig[(0, 0)] + sig[(1, 1)]);
+        }
+        1 => {
+            sig[(0, 0)] = -c * s2 * (2.0 + c2 * c32);
+            sig[(1, 1)] = c * s2 * c2 * c32;
+            sig[(0, 1)] = c * c2 * (1.0 - s2 * s32);
+            sig[(2, 2)] = nu * (sig[(0, 0)] + sig[(1, 1)]);
+        }
+        _ => {
+            sig[(0, 2)] = -c * s2;
+            sig[(1, 2)] = c * c2;
+        }
+    }
+    sig[(1, 0)] = sig[(0, 1)];
+    sig[(2, 0)] = sig[(0, 2)];
+    sig[(2, 1)] = sig[(1, 2)];
+    let (a, f, fp) = aux_angular(m, th, mu, nu);
+    let du1 = Vector3::from_fn(|k, _| a / r.sqrt() * (0.5 * ct * f[k] - st * fp[k]));
+    (sig, du1)
+}
+
+/// The displacement of [`aux_fields`]' mode `m` at local polar (r, θ): u = √r·f(θ)·A.
+pub fn aux_displacement(m: usize, r: f64, th: f64, mu: f64, nu: f64) -> Vector3 {
+    let (a, f, _) = aux_angular(m, th, mu, nu);
+    Vector3::from_fn(|k, _| a * r.sqrt() * f[k])
+}
+
+/// A, f(θ) and f′(θ) of the auxiliary displacement u = √r·f(θ)·A of mode `m`:
+/// I: A = 1/(2μ√(2π)), f = (cos(θ/2), sin(θ/2), 0)(κ − cos θ); II: f = (sin(θ/2)(κ + 2 + cos θ),
+/// −cos(θ/2)(κ − 2 + cos θ), 0); III: A = 2/(μ√(2π)), f = (0, 0, sin(θ/2)); κ = 3 − 4ν.
+fn aux_angular(m: usize, th: f64, mu: f64, nu: f64) -> (f64, [f64; 3], [f64; 3]) {
+    let kappa = 3.0 - 4.0 * nu;
+    let (s2, c2) = (0.5 * th).sin_cos();
+    let (st, ct) = th.sin_cos();
+    let root = (2.0 * PI).sqrt();
+    match m {
+        0 => {
+            let g = kappa - ct;
+            (1.0 / (2.0 * mu * root), [c2 * g, s2 * g, 0.0], [-0.5 * s2 * g + c2 * st, 0.5 * c2 * g + s2 * st, 0.0])
+        }
+        1 => {
+            let (g1, g2) = (kappa + 2.0 + ct, kappa - 2.0 + ct);
+            (1.0 / (2.0 * mu * root), [s2 * g1, -c2 * g2, 0.0], [0.5 * c2 * g1 - s2 * st, 0.5 * s2 * g2 + c2 * st, 0.0])
+        }
+        _ => (2.0 / (mu * root), [0.0, 0.0, s2], [0.0, 0.0, 0.5 * c2]),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -906,6 +1007,39 @@ mod tests {
     /// from node to node cancels over ±2 spacings (hat weights ½, 1, ½), one linear along
     /// the front is kept at interior nodes and pulled inward at an end (one-sided), and
     /// L = 0 < spacing leaves each node its own.
+    #[test]
+    fn auxiliary_fields_are_consistent() {
+        // σ⁽ᵐ⁾ is Hooke's law (plane strain, u₃,₃ = 0) of the gradient of u⁽ᵐ⁾ (central
+        // differences), ∂u⁽ᵐ⁾/∂x₁ matches them, and the faces θ = ±π are traction free.
+        let (mu, nu) = (750.0, 0.3);
+        let lam = 2.0 * mu * nu / (1.0 - 2.0 * nu);
+        let u = |m: usize, x: f64, y: f64| aux_displacement(m, (x * x + y * y).sqrt(), y.atan2(x), mu, nu);
+        for m in 0..3 {
+            for &(r, th) in &[(0.7, 0.3), (1.3, 2.0), (0.4, -1.1), (2.0, -2.9), (1.0, 3.0)] {
+                let (x, y) = (r * f64::cos(th), r * f64::sin(th));
+                let e = 1e-6;
+                let d1 = (u(m, x + e, y) - u(m, x - e, y)) / (2.0 * e);
+                let d2 = (u(m, x, y + e) - u(m, x, y - e)) / (2.0 * e);
+                let h = Tensor3::from_fn(|i, j| match j {
+                    0 => d1[i],
+                    1 => d2[i],
+                    _ => 0.0,
+                });
+                let eps = 0.5 * (h + h.transpose());
+                let hooke = Tensor3::identity() * (lam * eps.trace()) + eps * (2.0 * mu);
+                let (sig, du1) = aux_fields(m, r, th, mu, nu);
+                let scale = sig.abs().max();
+                assert!((sig - hooke).abs().max() < 1e-6 * scale, "mode {m} at ({r}, {th}): σ {sig:?} vs Hooke {hooke:?}");
+                assert!((du1 - d1).abs().max() < 1e-6 * d1.abs().max().max(1e-3 / mu), "mode {m}: ∂u/∂x₁ {du1:?} vs {d1:?}");
+            }
+            for th in [PI, -PI] {
+                let (sig, _) = aux_fields(m, 0.8, th, mu, nu);
+                let t = sig * Vector3::y();
+                assert!(t.abs().max() < 1e-12, "mode {m}: face θ = {th} not traction free: {t:?}");
+            }
+        }
+    }
+
     #[test]
     fn openings_average_along_the_front() {
         use crate::crack::surface::TriangleSurface;

@@ -94,6 +94,10 @@ pub struct SlabRun {
     /// = the crack length at h = 2 mm, so q vanishes before the plate's cracked edge; hat ±1
     /// cell).
     pub front_domain: Vec<FrontResult>,
+    /// K by the interaction integral over the domain of `front_domain`.
+    pub front_interaction: Vec<FrontResult>,
+    /// The 2D run's K_I, K_II by its interaction integral on the 2×2 rectangle.
+    pub k2d_interaction: [f64; 2],
     pub seconds_2d: f64,
     pub seconds_3d: f64,
     pub particles_3d: usize,
@@ -116,6 +120,7 @@ pub fn slab(h: f64) -> anyhow::Result<SlabRun> {
     let k_of = |j: f64| (mat.e * j / (1.0 - mat.nu * mat.nu)).sqrt();
     let tip = a.tip_fracture(0, TipEnd::End, 2, false, Default::default(), 0.0)?;
     let tip_area = a.tip_fracture(0, TipEnd::End, 2, true, Default::default(), 0.0)?;
+    let tip_inter = a.tip_fracture(0, TipEnd::End, 2, true, crate::fracture::jintegral::CodMethod::Interaction, 0.0)?;
     let t = Instant::now();
     let mut b = s3.build()?;
     b.run_until(s3.solver.end_time, |_| {})?;
@@ -125,9 +130,13 @@ pub fn slab(h: f64) -> anyhow::Result<SlabRun> {
     let front = b.front_fracture(0, &req);
     let seconds_front = t.elapsed().as_secs_f64();
     let front_volume = b.front_fracture(0, &FrontRequest { volume_term: true, ..req.clone() });
-    let front_domain = b.front_fracture(0, &FrontRequest { domain: Some(DomainShape { inner: 2.0 * h, outer: 3.0 * h, along: h }), ..req.clone() });
+    let dreq = FrontRequest { domain: Some(DomainShape { inner: 2.0 * h, outer: 3.0 * h, along: h }), ..req.clone() };
+    let front_domain = b.front_fracture(0, &dreq);
+    let front_interaction = b.front_fracture(0, &FrontRequest { interaction: true, ..dreq });
     Ok(SlabRun {
         front_domain,
+        front_interaction,
+        k2d_interaction: [tip_inter.k1, tip_inter.k2],
         front_volume,
         j2d_rect_area: tip_area.j1,
         h,
@@ -163,6 +172,17 @@ pub fn run_slab(variant: Variant) -> anyhow::Result<CaseOutput> {
         out.measure("mixed_modes", &label, modes, 0.0);
         let ddev = r.front_domain.iter().map(|f| (f.j1 / r.j2d_rect_area - 1.0).abs()).fold(0.0, f64::max);
         out.measure("domain_vs_2d", &label, ddev, 0.0);
+        let idev = r.front_interaction.iter().map(|f| (f.k[0] / r.k2d_interaction[0] - 1.0).abs()).fold(0.0, f64::max);
+        let imodes = r.front_interaction.iter().map(|f| f.k[1].abs().max(f.k[2].abs()) / f.k[0]).fold(0.0, f64::max);
+        out.measure("interaction_vs_2d", &label, idev, 0.0);
+        out.measure("interaction_mixed_modes", &label, imodes, 0.0);
+        out.note(format!(
+            "h = {h} mm, interaction integral over the same domain (split = \"interaction\"): K per front node (z: K_I, K_II, K_III; K_I vs the 2D \
+             interaction integral on the 2×2 rectangle, K_I = {:.5}, K_II = {:.2e}): {}.",
+            r.k2d_interaction[0],
+            r.k2d_interaction[1],
+            r.front_interaction.iter().map(|f| format!("{}: {:.5}, {:.2e}, {:.2e} ({:+.3} %)", f.x.z, f.k[0], f.k[1], f.k[2], 100.0 * (f.k[0] / r.k2d_interaction[0] - 1.0))).collect::<Vec<_>>().join("; ")
+        ));
         out.note(format!(
             "h = {h} mm, equivalent domain integral (q = 1 within 2 cells, 0 from 3, ψ = cos²(πs/2h) along the front): J₁ per front node (z: J₁, vs the 2D \
              rectangle with its area term): {}.",
@@ -505,6 +525,8 @@ pub struct InclinedRun {
     pub front_own: Vec<FrontResult>,
     /// Domain J₁ and its K (COD one cell behind).
     pub front_domain: Vec<FrontResult>,
+    /// K by the interaction integral over the domain of `front_domain` (`split = "interaction"`).
+    pub front_interaction: Vec<FrontResult>,
     /// Contour J₁ extrapolated to r → 0 per node, and its K.
     pub j0: Vec<f64>,
     pub k0: Vec<[f64; 3]>,
@@ -561,6 +583,7 @@ pub fn inclined(file: SceneFile, geom: InclinedGeometry) -> anyhow::Result<Incli
     let t = Instant::now();
     let front_domain = sim.front_fracture(0, &dreq);
     let seconds_domain = t.elapsed().as_secs_f64();
+    let front_interaction = sim.front_fracture(0, &FrontRequest { interaction: true, ..dreq.clone() });
     let front_own = sim.front_fracture(0, &own);
     let k_domain_cod2 = sim.front_fracture(0, &FrontRequest { cod_behind: 2.0 * h, ..dreq.clone() }).iter().map(|f| f.k).collect();
     let mat = sim.materials[0].clone();
@@ -590,6 +613,7 @@ pub fn inclined(file: SceneFile, geom: InclinedGeometry) -> anyhow::Result<Incli
         front,
         front_own,
         front_domain,
+        front_interaction,
         j0,
         k0,
         j_vs_radius,
@@ -664,6 +688,12 @@ fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &s
     let (sc, wc) = inclined_summary(&kc, &r.theta, &r.k_ref, amp);
     let (s2, w2) = inclined_summary(&r.k_domain_cod2, &r.theta, &r.k_ref, amp);
     let (so, wo) = inclined_summary(&kown, &r.theta, &r.k_ref, amp);
+    let ki: Vec<[f64; 3]> = r.front_interaction.iter().map(|f| f.k).collect();
+    let (si, wi) = inclined_summary(&ki, &r.theta, &r.k_ref, amp);
+    out.measure(&format!("k1_interaction{suffix}"), &label, si[0], 1.0);
+    out.measure(&format!("k2_interaction{suffix}"), &label, si[1], 1.0);
+    out.measure(&format!("k3_interaction{suffix}"), &label, si[2], 1.0);
+    out.measure(&format!("k_nodes_interaction{suffix}"), &label, wi.iter().copied().fold(0.0, f64::max), 0.0);
     out.measure(&format!("k1_domain{suffix}"), &label, sd[0], 1.0);
     out.measure(&format!("k2_domain{suffix}"), &label, sd[1], 1.0);
     out.measure(&format!("k3_domain{suffix}"), &label, sd[2], 1.0);
@@ -691,7 +721,7 @@ fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &s
     let j0_avg = r.j0.iter().sum::<f64>() / nn;
     out.note(format!(
         "a/h = {a_cells} (h = {} mm): σ = {:.5} MPa; reference K_I = {:.5}, K_II amplitude {:.5}, K_III amplitude {:.5} MPa√mm; front average \
-         G_ref = {:.6e}. Against the reference — {}; {}; {}; {}; {}. Front-average J₁/G_ref: domain {:.4}, contour extrapolated to r → 0 {:.4}; \
+         G_ref = {:.6e}. Against the reference — {}; {}; {}; {}; {}; {}. Front-average J₁/G_ref: domain {:.4}, contour extrapolated to r → 0 {:.4}; \
          contour against r (cells): {}. Kinetic/strain energy at the end {:.2e} (within 2a of the crack centre {:.2e}); front-average K_I at 0.9 t_end vs t_end {:+.2e}. Run {} \
          particles × {} steps {:.1} s; one front evaluation ({} nodes) contour {:.3} s ({:.2} ms per node), domain {:.3} s ({:.2} ms per node).",
         r.h,
@@ -701,6 +731,7 @@ fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &s
         amp[2],
         g_ref_avg,
         line("domain J₁ + COD 1 cell behind", sd, wd),
+        line("interaction integral over the same domain", si, wi),
         line("contour extrapolated to r → 0 + COD", se, we),
         line(&format!("contour at the scene's r = {} cells + COD", r.radius_cells), sc, wc),
         line("domain J₁ + COD 2 cells behind", s2, w2),
@@ -746,15 +777,18 @@ fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &s
             .collect::<Vec<_>>()
             .join(", ")
     ));
-    let mut csv = String::from("theta_deg,k1_domain,k2_domain,k3_domain,k1_r0,k2_r0,k3_r0,k1_ref,k2_ref,k3_ref,j1_domain,j1_r0,g_ref\n");
+    let mut csv = String::from("theta_deg,k1_domain,k2_domain,k3_domain,k1_interaction,k2_interaction,k3_interaction,k1_r0,k2_r0,k3_r0,k1_ref,k2_ref,k3_ref,j1_domain,j1_r0,g_ref\n");
     for &i in &order {
         let (d, c, k) = (kd[i], r.k0[i], r.k_ref[i]);
         csv.push_str(&format!(
-            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}\n",
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}\n",
             r.theta[i].to_degrees(),
             d[0],
             d[1],
             d[2],
+            ki[i][0],
+            ki[i][1],
+            ki[i][2],
             c[0],
             c[1],
             c[2],
@@ -766,13 +800,14 @@ fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &s
             g_of(&k)
         ));
     }
-    out.data(&format!("front_j_inclined{suffix}.csv"), "Inclined penny: per front node θ, K by the domain J₁ and by the contour extrapolated to r → 0 (COD split), the Kassir & Sih reference, J₁ and G_ref.", csv);
+    out.data(&format!("front_j_inclined{suffix}.csv"), "Inclined penny: per front node θ, K by the domain J₁, by the interaction integral over the same domain and by the contour extrapolated to r → 0 (COD split), the Kassir & Sih reference, J₁ and G_ref.", csv);
     let unit = r.sigma * (PI * INCL_A).sqrt();
     let mut series = Vec::new();
     let names = ["K_I", "K_II", "K_III"];
     for m in 0..3 {
         series.push(Series::line(&format!("{} domain", names[m]), order.iter().map(|&i| (r.theta[i].to_degrees(), kd[i][m] / unit)).collect()).with_markers());
         series.push(Series::line(&format!("{} contour r → 0", names[m]), order.iter().map(|&i| (r.theta[i].to_degrees(), r.k0[i][m] / unit)).collect()).with_markers());
+        series.push(Series::line(&format!("{} interaction", names[m]), order.iter().map(|&i| (r.theta[i].to_degrees(), ki[i][m] / unit)).collect()).with_markers());
         series.push(Series::reference(
             &format!("{} Kassir & Sih", names[m]),
             (0..=180).map(|d| d as f64 * if r.theta.iter().sum::<f64>() < 0.0 { -1.0 } else { 1.0 }).map(|d| (d, kassir_sih(r.sigma, INCL_A, gamma, r.nu, d.to_radians())[m] / unit)).collect(),
@@ -782,7 +817,7 @@ fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &s
         &format!("front_j_inclined{suffix}_k.png"),
         &format!("Inclined penny crack, {what} (γ = 45°, half model, a/h = 5): K_I, K_II, K_III over σ√(πa) at every front node against the front angle θ (from the \
          projection of the load axis, positive about the crack normal), by the domain J₁ and by the contour J₁ extrapolated to r → 0, both split by \
-         the opening one cell behind; lines: Kassir & Sih (infinite body)."),
+         the opening one cell behind, and by the interaction integral over the domain; lines: Kassir & Sih (infinite body)."),
         PlotSpec::new("Inclined penny crack: K along the front", "θ (degrees)", "K / (σ√(πa))"),
         Plot::Lines(series),
     );
