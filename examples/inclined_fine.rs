@@ -31,7 +31,7 @@ fn main() -> anyhow::Result<()> {
         let den: f64 = r.theta.iter().map(|&t| f(t) * f(t)).sum();
         num / den
     };
-    for (name, ks) in [("domain", r.front_domain.iter().map(|f| f.k).collect::<Vec<_>>()), ("contour", r.front.iter().map(|f| f.k).collect()), ("r->0", r.k0.clone())] {
+    for (name, ks) in [("domain", r.front_domain.iter().map(|f| f.k).collect::<Vec<_>>()), ("interaction", r.front_interaction.iter().map(|f| f.k).collect()), ("contour", r.front.iter().map(|f| f.k).collect()), ("r->0", r.k0.clone())] {
         let k1 = ks.iter().map(|k| k[0]).sum::<f64>() / n;
         let k2 = amp_fit(&|i| ks[i][1], &|t| t.cos());
         let k3 = amp_fit(&|i| ks[i][2], &|t| t.sin());
@@ -41,7 +41,7 @@ fn main() -> anyhow::Result<()> {
     let gref = r.k_ref.iter().map(g_of).sum::<f64>() / n;
     println!("J1/G domain {:.4}, r->0 {:.4}; settled {:+.2e}; KE/SE {:.2e} near {:.2e}; {} particles x {} steps {:.0} s; front {} nodes", r.front_domain.iter().map(|f| f.j1).sum::<f64>() / n / gref, r.j0.iter().sum::<f64>() / n / gref, r.settled, r.kinetic_ratio, r.kinetic_ratio_near, r.particles, r.steps, r.seconds, r.front.len());
     for (i, f) in r.front_domain.iter().enumerate() {
-        println!("node {i} theta {:.1} K {:?} ref {:?}", r.theta[i].to_degrees(), f.k, r.k_ref[i]);
+        println!("node {i} theta {:.1} K {:?} interaction {:?} ref {:?}", r.theta[i].to_degrees(), f.k, r.front_interaction[i].k, r.k_ref[i]);
     }
     Ok(())
 }

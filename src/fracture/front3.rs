@@ -803,7 +803,13 @@ impl Simulation<D3> {
             return (f64::NAN, f64::NAN, [f64::NAN; 3]);
         }
         let st = stat.value() / len;
-        (st + dynm.value() / len, st, std::array::from_fn(|m| inter[m].value() / len))
+        // Mode III's unit field is odd along the front at a plane normal to it, so where the
+        // body cuts the weight ψ (a symmetry plane, or a free face, within `along` of the
+        // node) the missing part does not mirror the present one as it does for J₁ and modes
+        // I, II: not given (on the inclined penny's half model I_III read up to 2 amplitudes
+        // off within `along` of the mirror plane, where K_III → 0).
+        let whole = lo <= -shape.along && hi >= shape.along;
+        (st + dynm.value() / len, st, std::array::from_fn(|m| if m == 2 && !whole { f64::NAN } else { inter[m].value() / len }))
     }
 
     /// The material at x ([`Simulation::material_index_near3`]).
