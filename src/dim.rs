@@ -219,6 +219,11 @@ pub struct Sym3 {
 
 impl Sym3 {
     pub const ZERO: Sym3 = Sym3 { xx: 0.0, yy: 0.0, zz: 0.0, xy: 0.0, xz: 0.0, yz: 0.0 };
+
+    /// The full 3×3 matrix.
+    pub fn to_tensor(&self) -> Tensor3 {
+        Tensor3::new(self.xx, self.xy, self.xz, self.xy, self.yy, self.yz, self.xz, self.yz, self.zz)
+    }
 }
 
 impl SymOps<Vector3, Tensor3> for Sym3 {

@@ -334,7 +334,7 @@ pub fn domain_integral(gm: &GridMesh3, sol: &Solution3, elements: &[usize], q_no
             let grad_q = (0..8).fold(Matrix3::zeros(), |s, a| s + q[a] * p.grad_n[a].transpose());
             let h = hex8::displacement_gradient(&p.grad_n, &u);
             let s = sol.gauss_stress[e][gp];
-            let sig = Matrix3::new(s.xx, s.xy, s.xz, s.xy, s.yy, s.yz, s.xz, s.yz, s.zz);
+            let sig = s.to_tensor();
             let w = 0.5 * crate::dim::SymOps::ddot(&s, &sol.gauss_strain[e][gp]);
             // σ_ij u_i,k q_k,j = tr(σ H grad_q) (σ symmetric); W δ_jk q_k,j = W tr(grad_q).
             jbar += ((sig * h * grad_q).trace() - w * grad_q.trace()) * p.det_j;

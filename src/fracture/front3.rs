@@ -80,6 +80,7 @@ use crate::crack::three_d::Crack3;
 use crate::dim::{GridGeometry, Space, Sym3, SymOps, Tensor3, Vector, Vector3, D2, D3};
 use crate::exact::ExactSum;
 use crate::fracture::jintegral::{area_acceleration, TipEnd};
+use crate::fracture::williams::{williams_aux, williams_aux_iii};
 use crate::material::LinearElastic;
 use crate::shape::ShapeKind;
 use crate::simulation::Simulation;
@@ -785,14 +786,13 @@ impl Simulation<D3> {
                 let (dl, gl) = (rot * d, rot * gq);
                 let r = (dl.x * dl.x + dl.y * dl.y).sqrt();
                 if r > 0.0 {
-                    let sm = Tensor3::new(s.xx, s.xy, s.xz, s.xy, s.yy, s.yz, s.xz, s.yz, s.zz);
-                    let sl = rot * sm * rot.transpose();
+                    let sl = rot * s.to_tensor() * rot.transpose();
                     let hl = rot * p.grad_u[i] * rot.transpose();
                     let el = 0.5 * (hl + hl.transpose());
                     let du1l = hl.column(0).into_owned();
-                    let sg = sl * gl;
+                    let (sg, th) = (sl * gl, dl.y.atan2(dl.x));
                     for (m, acc) in inter.iter_mut().enumerate() {
-                        let (sa, dua) = aux_fields(m, r, dl.y.atan2(dl.x), mu, nu);
+                        let (sa, dua) = aux_fields(m, r, th, mu, nu);
                         acc.add(p.vol0[i] * (sg.dot(&dua) + (sa * gl).dot(&du1l) - sa.component_mul(&el).sum() * gl.x));
                     }
                 }
@@ -941,85 +941,38 @@ impl Simulation<D2> {
 }
 
 /// The auxiliary fields of the interaction integral: the near-front field of unit K in
-/// mode `m` (0: I, 1: II, plane strain; 2: III, antiplane shear) at local polar
-/// coordinates (r, θ) in the front's (x₁, x₂) plane (Williams; Anderson, *Fracture
-/// Mechanics* tables 2.1–2.2): the stress σ⁽ᵐ⁾ and ∂u⁽ᵐ⁾/∂x₁, local components, shear
-/// modulus μ, Poisson's ratio ν, κ = 3 − 4ν. With u = √r·f(θ)·A, ∂u/∂x₁ =
-/// (A/√r)(cos θ·f/2 − sin θ·f′).
+/// mode `m` (0: I, 1: II, plane strain, κ = 3 − 4ν; 2: III, antiplane shear) at local polar
+/// coordinates (r, θ) in the front's (x₁, x₂) plane ([`williams_aux`], [`williams_aux_iii`]),
+/// as the stress σ⁽ᵐ⁾ (σ₃₃ = ν(σ₁₁ + σ₂₂) in plane strain) and ∂u⁽ᵐ⁾/∂x₁, local components.
 pub fn aux_fields(m: usize, r: f64, th: f64, mu: f64, nu: f64) -> (Tensor3, Vector3) {
-    let c = 1.0 / (2.0 * PI * r).sqrt();
-    let (s2, c2) = (0.5 * th).sin_cos();
-    let (s32, c32) = (1.5 * th).sin_cos();
-    let (st, ct) = th.sin_cos();
-    let mut sig = Tensor3::zeros();
-    match m {
-        0 => {
-            sig[(0, 0)] = c * c2 * (1.0 - s2 * s32);
-            sig[(1, 1)] = c * c2 * (1.0 + s2 * s32);
-            sig[(0, 1)] = c * s2 * c2 * c32;
-            sig[(2, 2)] = nu * (sig[(0, 0)] + sig[(1, 1)]);
-        }
-        1 => {
-            sig[(0, 0)] = -c * s2 * (2.0 + c2 * c32);
-            sig[(1, 1)] = c * s2 * c2 * c32;
-            sig[(0, 1)] = c * c2 * (1.0 - s2 * s32);
-            sig[(2, 2)] = nu * (sig[(0, 0)] + sig[(1, 1)]);
-        }
-        _ => {
-            sig[(0, 2)] = -c * s2;
-            sig[(1, 2)] = c * c2;
-        }
+    if m == 2 {
+        let ([s13, s23], du3) = williams_aux_iii(r, th, mu);
+        return (Tensor3::new(0.0, 0.0, s13, 0.0, 0.0, s23, s13, s23, 0.0), Vector3::new(0.0, 0.0, du3));
     }
-    sig[(1, 0)] = sig[(0, 1)];
-    sig[(2, 0)] = sig[(0, 2)];
-    sig[(2, 1)] = sig[(1, 2)];
-    let (a, f, fp) = aux_angular(m, th, mu, nu);
-    let du1 = Vector3::from_fn(|k, _| a / r.sqrt() * (0.5 * ct * f[k] - st * fp[k]));
-    (sig, du1)
-}
-
-/// The displacement of [`aux_fields`]' mode `m` at local polar (r, θ): u = √r·f(θ)·A.
-pub fn aux_displacement(m: usize, r: f64, th: f64, mu: f64, nu: f64) -> Vector3 {
-    let (a, f, _) = aux_angular(m, th, mu, nu);
-    Vector3::from_fn(|k, _| a * r.sqrt() * f[k])
-}
-
-/// A, f(θ) and f′(θ) of the auxiliary displacement u = √r·f(θ)·A of mode `m`:
-/// I: A = 1/(2μ√(2π)), f = (cos(θ/2), sin(θ/2), 0)(κ − cos θ); II: f = (sin(θ/2)(κ + 2 + cos θ),
-/// −cos(θ/2)(κ − 2 + cos θ), 0); III: A = 2/(μ√(2π)), f = (0, 0, sin(θ/2)); κ = 3 − 4ν.
-fn aux_angular(m: usize, th: f64, mu: f64, nu: f64) -> (f64, [f64; 3], [f64; 3]) {
-    let kappa = 3.0 - 4.0 * nu;
-    let (s2, c2) = (0.5 * th).sin_cos();
-    let (st, ct) = th.sin_cos();
-    let root = (2.0 * PI).sqrt();
-    match m {
-        0 => {
-            let g = kappa - ct;
-            (1.0 / (2.0 * mu * root), [c2 * g, s2 * g, 0.0], [-0.5 * s2 * g + c2 * st, 0.5 * c2 * g + s2 * st, 0.0])
-        }
-        1 => {
-            let (g1, g2) = (kappa + 2.0 + ct, kappa - 2.0 + ct);
-            (1.0 / (2.0 * mu * root), [s2 * g1, -c2 * g2, 0.0], [0.5 * c2 * g1 - s2 * st, 0.5 * s2 * g2 + c2 * st, 0.0])
-        }
-        _ => (2.0 / (mu * root), [0.0, 0.0, s2], [0.0, 0.0, 0.5 * c2]),
-    }
+    let ([s11, s22, s12], [du1, du2]) = williams_aux(m as u8 + 1, r, th, mu, 3.0 - 4.0 * nu);
+    (Tensor3::new(s11, s12, 0.0, s12, s22, 0.0, 0.0, 0.0, nu * (s11 + s22)), Vector3::new(du1, du2, 0.0))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The openings' average along the front (`cod_along`): an opening alternating in sign
-    /// from node to node cancels over ±2 spacings (hat weights ½, 1, ½), one linear along
-    /// the front is kept at interior nodes and pulled inward at an end (one-sided), and
-    /// L = 0 < spacing leaves each node its own.
     #[test]
     fn auxiliary_fields_are_consistent() {
         // σ⁽ᵐ⁾ is Hooke's law (plane strain, u₃,₃ = 0) of the gradient of u⁽ᵐ⁾ (central
         // differences), ∂u⁽ᵐ⁾/∂x₁ matches them, and the faces θ = ±π are traction free.
         let (mu, nu) = (750.0, 0.3);
         let lam = 2.0 * mu * nu / (1.0 - 2.0 * nu);
-        let u = |m: usize, x: f64, y: f64| aux_displacement(m, (x * x + y * y).sqrt(), y.atan2(x), mu, nu);
+        let u = |m: usize, x: f64, y: f64| {
+            let (r, th) = ((x * x + y * y).sqrt(), y.atan2(x));
+            match m {
+                2 => Vector3::new(0.0, 0.0, crate::fracture::williams::williams_displacement_iii(r, th, mu)),
+                _ => {
+                    let w = crate::fracture::williams::williams_displacement(m as u8 + 1, r, th, mu, 3.0 - 4.0 * nu);
+                    Vector3::new(w.x, w.y, 0.0)
+                }
+            }
+        };
         for m in 0..3 {
             for &(r, th) in &[(0.7, 0.3), (1.3, 2.0), (0.4, -1.1), (2.0, -2.9), (1.0, 3.0)] {
                 let (x, y) = (r * f64::cos(th), r * f64::sin(th));
@@ -1046,6 +999,10 @@ mod tests {
         }
     }
 
+    /// The openings' average along the front (`cod_along`): an opening alternating in sign
+    /// from node to node cancels over ±2 spacings (hat weights ½, 1, ½), one linear along
+    /// the front is kept at interior nodes and pulled inward at an end (one-sided), and
+    /// L = 0 < spacing leaves each node its own.
     #[test]
     fn openings_average_along_the_front() {
         use crate::crack::surface::TriangleSurface;

@@ -1,8 +1,9 @@
-//! The Williams near-tip fields of unit K_I and K_II (Anderson 2005, Tables 2.1 and 2.2):
-//! the auxiliary state of the interaction integral (the static FEA's K split,
-//! [`crate::fea::jintegral`], and the MPM contour's `cod = "interaction"`,
-//! [`crate::fracture::jintegral`]) and the displacement of the `williams` boundary
-//! condition ([`crate::motion`]).
+//! The Williams near-tip fields of unit K_I and K_II (Anderson 2005, Tables 2.1 and 2.2),
+//! and of unit K_III (antiplane shear): the auxiliary state of the interaction integral (the
+//! static FEA's K split, [`crate::fea::jintegral`], the MPM contour's `cod = "interaction"`,
+//! [`crate::fracture::jintegral`], and the 3D domain's `split = "interaction"`,
+//! [`crate::fracture::front3`]) and the displacement of the `williams` boundary condition
+//! ([`crate::motion`]).
 
 use crate::dim::Vector;
 use std::f64::consts::PI;
@@ -54,3 +55,18 @@ pub fn williams_displacement(mode: u8, r: f64, theta: f64, mu: f64, kappa: f64) 
     }
 }
 
+
+/// The mode III field of unit K_III at local polar (r, θ) (Anderson 2005, Table 2.2):
+/// stress [σ13, σ23] = (−sin(θ/2), cos(θ/2))/√(2πr) and ∂u3/∂x1, with
+/// u3 = (2/μ)√(r/2π) sin(θ/2), so ∂u3/∂x1 = (2/μ)(cos θ sin(θ/2)/2 − sin θ cos(θ/2)/2)/√(2πr).
+pub fn williams_aux_iii(r: f64, theta: f64, mu: f64) -> ([f64; 2], f64) {
+    let (s, c) = (0.5 * theta).sin_cos();
+    let a = 1.0 / (2.0 * PI * r).sqrt();
+    let (st, ct) = theta.sin_cos();
+    ([-a * s, a * c], 2.0 / mu * a * (0.5 * ct * s - 0.5 * st * c))
+}
+
+/// The mode III displacement u3 of unit K_III (used to test [`williams_aux_iii`]).
+pub fn williams_displacement_iii(r: f64, theta: f64, mu: f64) -> f64 {
+    2.0 / mu * (r / (2.0 * PI)).sqrt() * (0.5 * theta).sin()
+}

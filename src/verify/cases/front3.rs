@@ -653,12 +653,12 @@ fn amplitude(ys: &[f64], fs: &[f64]) -> f64 {
     ys.iter().zip(fs).map(|(y, f)| y * f).sum::<f64>() / fs.iter().map(|f| f * f).sum::<f64>()
 }
 
-/// Per-mode summary of one K estimate against the reference: front-average K_I, the
+/// Per-mode summary of one K estimate against the reference (`amp_ref`: [`inclined_amplitudes`]): front-average K_I, the
 /// amplitudes of K_II (cos θ) and K_III (sin θ), each over its reference; the largest
 /// per-node error over the mode's reference amplitude, per mode.
 /// Nodes whose K of a mode is not given (NaN: the interaction integral's K_III where the
 /// body cuts the domain) are left out of that mode's figures.
-fn inclined_summary(k: &[[f64; 3]], theta: &[f64], k_ref: &[[f64; 3]], amp_ref: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+pub fn inclined_summary(k: &[[f64; 3]], theta: &[f64], k_ref: &[[f64; 3]], amp_ref: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let given = |m: usize| (0..k.len()).filter(move |&i| k[i][m].is_finite());
     let n1 = given(0).count() as f64;
     let k1 = given(0).map(|i| k[i][0]).sum::<f64>() / n1;
@@ -686,15 +686,20 @@ pub fn run_inclined(_variant: Variant) -> anyhow::Result<CaseOutput> {
     Ok(out)
 }
 
+/// The reference amplitudes of a run: K_I, and the factors of cos θ in K_II and of sin θ in
+/// K_III (Kassir & Sih).
+pub fn inclined_amplitudes(r: &InclinedRun) -> [f64; 3] {
+    let gamma = INCL_GAMMA_DEG.to_radians();
+    let a = kassir_sih(r.sigma, INCL_A, gamma, r.nu, 0.0);
+    let b = kassir_sih(r.sigma, INCL_A, gamma, r.nu, 0.5 * PI);
+    [a[0], a[1], b[2]]
+}
+
 /// The measurements, notes, data and figure of one inclined-penny run; check ids get `suffix`.
 fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &str) {
     let a_cells = INCL_A / r.h;
     let gamma = INCL_GAMMA_DEG.to_radians();
-    let amp = {
-        let a = kassir_sih(r.sigma, INCL_A, gamma, r.nu, 0.0);
-        let b = kassir_sih(r.sigma, INCL_A, gamma, r.nu, 0.5 * PI);
-        [a[0], a[1], b[2]]
-    };
+    let amp = inclined_amplitudes(r);
     let g_of = |k: &[f64; 3]| (1.0 - r.nu * r.nu) * (k[0] * k[0] + k[1] * k[1]) / r.e + (1.0 + r.nu) * k[2] * k[2] / r.e;
     let nn = r.front.len() as f64;
     let g_ref_avg = r.k_ref.iter().map(g_of).sum::<f64>() / nn;
