@@ -275,6 +275,12 @@ pub struct FractureSpec3 {
     /// cells (default [`DEFAULT_ALONG`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub along: Option<f64>,
+    /// Domain integral only: the model's symmetry planes, `[{ axis = "x", at = 0.0 }, ...]`
+    /// (at most one per axis): the particles' mirror images in them complete a domain that
+    /// such a plane cuts ([`crate::fracture::front3::mirror_images`]). The material must lie
+    /// on one side of each, and the scene must be symmetric about it (rollers on the plane).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub mirrors: Vec<MirrorSpec>,
     /// Let the front grow (001 §2.3.2; [`crate::fracture::growth3`]): the 2D table
     /// `{ increment, every, max_speed, speed_correction, speed_window }`. Omitted: the crack is stationary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -321,6 +327,22 @@ pub enum FrontMethod {
     /// The equivalent domain integral over the particles (includes the inertia terms and
     /// the variation along the front that the planar contour leaves out).
     Domain,
+}
+
+/// One of `cracks[].fracture.mirrors`: the symmetry plane x_axis = at.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MirrorSpec {
+    /// "x", "y" or "z".
+    pub axis: String,
+    pub at: f64,
+}
+
+impl MirrorSpec {
+    /// The axis index (0–2), None for anything but "x", "y", "z".
+    pub fn axis_index(&self) -> Option<usize> {
+        ["x", "y", "z"].iter().position(|a| *a == self.axis)
+    }
 }
 
 /// `cracks[].fracture.split` of a 3D crack.
@@ -995,6 +1017,20 @@ impl Scene3 {
             }
         }
         let requests = self.front_requests(&cracks)?;
+        // A mirror plane bounds the material: every particle's domain on one side of it.
+        for (c, req) in requests.iter().enumerate() {
+            for (j, &(a, at)) in req.iter().flat_map(|r| r.mirrors.iter()).enumerate() {
+                let hair = 1e-9 * self.grid.cell[a];
+                let below = (0..particles.len()).find(|&p| particles.x[p][a] - particles.lp[p][a] < at - hair);
+                let above = (0..particles.len()).find(|&p| particles.x[p][a] + particles.lp[p][a] > at + hair);
+                if let (Some(p), Some(q)) = (below, above) {
+                    return Err(invalid(
+                        format!("cracks[{c}].fracture.mirrors[{j}]"),
+                        format!("the material lies on both sides of the plane {} = {at} (particles at {:?} and {:?}): a mirror plane is a symmetry plane on the model's boundary", ["x", "y", "z"][a], particles.x[p].as_slice(), particles.x[q].as_slice()),
+                    ));
+                }
+            }
+        }
         let mut sim = Simulation::new(grid, particles, mats, body_force, thickness, loads, bcs, cracks, options);
         sim.growth = self.growth3(&sim, &requests);
         Ok(sim)
@@ -1048,6 +1084,22 @@ impl Scene3 {
                 }
                 if fr.split == FrontSplit::Interaction && fr.growth.is_some() {
                     return Err(invalid(f("fracture.split"), "\"interaction\" is the static interaction integral (no inertia or crack-speed terms): a growing front splits by the opening".to_string()));
+                }
+                for (j, m) in fr.mirrors.iter().enumerate() {
+                    let field = f(&format!("fracture.mirrors[{j}]"));
+                    let Some(a) = m.axis_index() else {
+                        return Err(invalid(format!("{field}.axis"), format!("must be \"x\", \"y\" or \"z\", got {:?}", m.axis)));
+                    };
+                    if fr.mirrors[..j].iter().any(|o| o.axis == m.axis) {
+                        return Err(invalid(format!("{field}.axis"), format!("a second mirror plane normal to {}: at most one per axis", m.axis)));
+                    }
+                    let (lo, hi) = (self.grid.origin[a], self.grid.origin[a] + self.grid.size[a]);
+                    if !(m.at >= lo && m.at <= hi) {
+                        return Err(invalid(format!("{field}.at"), format!("{} is not in the grid's [{lo}, {hi}] along {}", m.at, m.axis)));
+                    }
+                    if fr.method != FrontMethod::Domain {
+                        return Err(invalid(format!("{field}"), "mirror images complete the domain integral: set method = \"domain\"".to_string()));
+                    }
                 }
                 if fr.method == FrontMethod::Domain && fr.domain_ramp() > fr.radius {
                     return Err(invalid(f("fracture.ramp"), format!("{} cells is more than the domain's radius ({} cells)", fr.domain_ramp(), fr.radius)));
@@ -1255,7 +1307,7 @@ impl Scene3 {
                 return Err(invalid(format!("cracks[{i}].fracture.nodes"), format!("selects no front node (the crack has {} front edges)", crack.front.len())));
             }
             let domain = (fr.method == FrontMethod::Domain).then(|| crate::fracture::front3::DomainShape { inner: (fr.radius - fr.domain_ramp()) * h, outer: fr.radius * h, along: fr.domain_along() * h });
-            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, cod_along: fr.cod_along * h, tangents: Default::default(), normals: Default::default(), domain, interaction: fr.split == FrontSplit::Interaction }));
+            out.push(Some(crate::fracture::front3::FrontRequest { nodes, radius: fr.radius * h, intervals: fr.intervals, volume_term: fr.volume_term, cod_behind: fr.cod_behind * h, cod_along: fr.cod_along * h, tangents: Default::default(), normals: Default::default(), domain, interaction: fr.split == FrontSplit::Interaction, mirrors: fr.mirrors.iter().filter_map(|m| m.axis_index().map(|a| (a, m.at))).collect() }));
         }
         Ok(out)
     }

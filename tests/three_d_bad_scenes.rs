@@ -298,6 +298,13 @@ fn bad_fracture_tables_and_unknown_detection_are_refused_in_3d() {
     expect_invalid(&cohesive, None, "cracks[0].fracture.growth.cohesive", &["2D only"]);
     let growing = tough.replace("growth = { release = {} }", "method = \"domain\", split = \"interaction\", growth = {}");
     expect_invalid(&growing, None, "cracks[0].fracture.split", &["growing front"]);
+    // Mirror planes: an axis by name, one per axis, in the grid, for the domain integral.
+    let dom = |m: &str| fr(&format!("method = \"domain\", mirrors = [{m}]"));
+    expect_invalid(&dom("{ axis = \"w\", at = 0.0 }"), None, "cracks[0].fracture.mirrors[0].axis", &["\"x\", \"y\" or \"z\"", "\"w\""]);
+    expect_invalid(&dom("{ axis = \"y\", at = 0.0 }, { axis = \"y\", at = 0.5 }"), None, "cracks[0].fracture.mirrors[1].axis", &["at most one per axis"]);
+    expect_invalid(&dom("{ axis = \"x\", at = 99.0 }"), None, "cracks[0].fracture.mirrors[0].at", &["not in the grid"]);
+    expect_invalid(&fr("mirrors = [{ axis = \"x\", at = 0.0 }]"), None, "cracks[0].fracture.mirrors[0]", &["method = \"domain\""]);
+    expect_message(&dom("{ axis = \"x\" }"), &["at"]);
 }
 
 #[test]

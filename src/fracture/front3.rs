@@ -215,6 +215,31 @@ pub struct FrontRequest {
     /// With `domain`: K_I, K_II, K_III by the interaction integral over the same domain
     /// ([`aux_fields`]) instead of J₁ split by the crack opening.
     pub interaction: bool,
+    /// With `domain`: the model's symmetry planes x_axis = at (axis 0–2, distinct), whose
+    /// mirror images of the particles complete a domain that a plane cuts
+    /// ([`mirror_images`]); empty: none.
+    pub mirrors: Vec<(usize, f64)>,
+}
+
+/// The images of a point under the mirror planes of a symmetric model (`mirrors`: x_axis =
+/// at): the point itself and its reflections in every non-empty subset of the planes (a
+/// quarter model's two planes give the two single images and the one through their line),
+/// each as the sign of each axis (−1: reflected) and the image point. The model's fields at
+/// an image are those at the point reflected: vectors v ↦ Mv, tensors T ↦ MTM with
+/// M = diag(signs), so an integral over a domain that a plane cuts, taken over the
+/// particles and their images, is the integral over the whole model's domain.
+pub fn mirror_images<'a>(mirrors: &'a [(usize, f64)], x: &Vector3) -> impl Iterator<Item = (Vector3, Vector3)> + 'a {
+    let x = *x;
+    (0..(1usize << mirrors.len())).map(move |set| {
+        let (mut signs, mut y) = (Vector3::repeat(1.0), x);
+        for (k, &(axis, at)) in mirrors.iter().enumerate() {
+            if set & (1 << k) != 0 {
+                signs[axis] = -1.0;
+                y[axis] = 2.0 * at - y[axis];
+            }
+        }
+        (signs, y)
+    })
 }
 
 /// The weight function q = φ(ρ) ψ(s) of the equivalent domain integral at a front node
@@ -756,7 +781,7 @@ impl Simulation<D3> {
     /// integrals I_m = Σ_p V_p [σ_ij u⁽ᵐ⁾_i,1 + σ⁽ᵐ⁾_ij u_i,1 − σ⁽ᵐ⁾_kl ε_kl δ_1j] ∂q/∂x_j / ∫ψ ds
     /// of the particles' fields with the unit-K auxiliary fields of mode m = I, II, III
     /// ([`aux_fields`]) in the node's frame (module doc, "Interaction integral").
-    fn domain_j3(&self, x0: &Vector3, frame: &FrontFrame, shape: &DomainShape, aux: Option<(f64, f64)>) -> (f64, f64, [f64; 3]) {
+    fn domain_j3(&self, x0: &Vector3, frame: &FrontFrame, shape: &DomainShape, aux: Option<AuxFields>, mirrors: &[(usize, f64)]) -> (f64, f64, [f64; 3]) {
         let p = &self.particles;
         let (mut stat, mut dynm) = (ExactSum::new(), ExactSum::new());
         let mut inter = [ExactSum::new(), ExactSum::new(), ExactSum::new()];
@@ -764,36 +789,53 @@ impl Simulation<D3> {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         let e1 = frame.e1;
         for i in 0..p.len() {
-            let d = p.x[i] - x0;
-            let (q, gq) = shape.box_average(&d, &p.lp[i], frame);
-            if q == 0.0 && gq == Vector3::zeros() {
-                continue;
-            }
-            // The material's extent along the front line, from the particles' domains.
-            let c = d.dot(&frame.e3);
-            let ext = (0..3).map(|a| p.lp[i][a] * frame.e3[a].abs()).sum::<f64>();
-            lo = lo.min(c - ext);
-            hi = hi.max(c + ext);
-            let s = &p.stress[i];
-            let du1 = p.grad_u[i] * e1;
-            let rho = p.mass[i] / p.vol0[i];
-            let (acl, vel, grad_v) = self.particle_motion3(i);
-            let energy = 0.5 * s.ddot(&p.strain[i]) + 0.5 * rho * vel.norm_squared();
-            stat.add(p.vol0[i] * (s.dot_vec(&gq).dot(&du1) - energy * e1.dot(&gq)));
-            dynm.add(p.mass[i] * q * (du1.dot(&acl) - (grad_v * e1).dot(&vel)));
-            if let Some((mu, nu)) = aux {
-                // Everything in the node's frame: d, ∇q, σ, ∇u (H_ij = ∂u_i/∂x_j) and ε.
-                let (dl, gl) = (rot * d, rot * gq);
-                let r = (dl.x * dl.x + dl.y * dl.y).sqrt();
-                if r > 0.0 {
-                    let sl = rot * s.to_tensor() * rot.transpose();
-                    let hl = rot * p.grad_u[i] * rot.transpose();
+            let mut motion = None;
+            for (signs, xi) in mirror_images(mirrors, &p.x[i]) {
+                let d = xi - x0;
+                let (q, gq) = shape.box_average(&d, &p.lp[i], frame);
+                if q == 0.0 && gq == Vector3::zeros() {
+                    continue;
+                }
+                // The material's extent along the front line, from the particles' domains.
+                let c = d.dot(&frame.e3);
+                let ext = (0..3).map(|a| p.lp[i][a] * frame.e3[a].abs()).sum::<f64>();
+                lo = lo.min(c - ext);
+                hi = hi.max(c + ext);
+                let (acl, vel, grad_v) = *motion.get_or_insert_with(|| self.particle_motion3(i));
+                let rho = p.mass[i] / p.vol0[i];
+                // Strain and kinetic energy are the same at an image.
+                let energy = 0.5 * p.stress[i].ddot(&p.strain[i]) + 0.5 * rho * vel.norm_squared();
+                // The particle's fields at the image: v ↦ Mv, T ↦ MTM (M = diag(signs)); the
+                // particle itself (no plane) is read as before, to the bit.
+                let own = signs == Vector3::repeat(1.0);
+                let flip = |t: &Tensor3| Tensor3::from_fn(|a, b| signs[a] * signs[b] * t[(a, b)]);
+                let (sig, grad_u) = if own { (p.stress[i].to_tensor(), p.grad_u[i]) } else { (flip(&p.stress[i].to_tensor()), flip(&p.grad_u[i])) };
+                let du1 = grad_u * e1;
+                if own {
+                    stat.add(p.vol0[i] * (p.stress[i].dot_vec(&gq).dot(&du1) - energy * e1.dot(&gq)));
+                    dynm.add(p.mass[i] * q * (du1.dot(&acl) - (grad_v * e1).dot(&vel)));
+                } else {
+                    let (acl, vel, grad_v) = (acl.component_mul(&signs), vel.component_mul(&signs), flip(&grad_v));
+                    stat.add(p.vol0[i] * ((sig * gq).dot(&du1) - energy * e1.dot(&gq)));
+                    dynm.add(p.mass[i] * q * (du1.dot(&acl) - (grad_v * e1).dot(&vel)));
+                }
+                if let Some(aux) = &aux {
+                    // Everything in the node's frame: d, ∇q, σ, ∇u (H_ij = ∂u_i/∂x_j) and ε.
+                    let (dl, gl) = (rot * d, rot * gq);
+                    let sl = rot * sig * rot.transpose();
+                    let hl = rot * grad_u * rot.transpose();
                     let el = 0.5 * (hl + hl.transpose());
                     let du1l = hl.column(0).into_owned();
-                    let (sg, th) = (sl * gl, dl.y.atan2(dl.x));
+                    let sg = sl * gl;
                     for (m, acc) in inter.iter_mut().enumerate() {
-                        let (sa, dua) = aux_fields(m, r, th, mu, nu);
-                        acc.add(p.vol0[i] * (sg.dot(&dua) + (sa * gl).dot(&du1l) - sa.component_mul(&el).sum() * gl.x));
+                        if let Some((sa, dua)) = aux.at(m, &dl) {
+                            acc.add(p.vol0[i] * (sg.dot(&dua) + (sa * gl).dot(&du1l) - sa.component_mul(&el).sum() * gl.x));
+                            if q != 0.0 {
+                                if let Some(w) = aux.divergence(m, &dl, &sl, &du1l) {
+                                    acc.add(p.vol0[i] * q * w);
+                                }
+                            }
+                        }
                     }
                 }
             }
@@ -823,6 +865,7 @@ impl Simulation<D3> {
         let frames: HashMap<u32, FrontFrame> = front_frames_with(crack, &req.tangents, &req.normals).into_iter().collect();
         let slab = self.grid.min_h();
         let mut cache = HashMap::new();
+        let mut adjacency = None;
         let mut out = Vec::with_capacity(req.nodes.len());
         for &v in &req.nodes {
             let x0 = crack.surface.vertices[v as usize];
@@ -837,8 +880,9 @@ impl Simulation<D3> {
             if let Some(shape) = &req.domain {
                 // The domain form gives J₁ only: J₂ would need the crack faces' terms.
                 let aux = if req.interaction { self.material_near3(&x0).map(|m| (m.shear_modulus(), m.nu)) } else { None };
+                let curvature = if req.interaction { front_curvature(crack, adjacency.get_or_insert_with(|| front_adjacency(crack)), v, &frame) } else { 0.0 };
                 let inter;
-                (j1, j1_line, inter) = self.domain_j3(&x0, &frame, shape, aux);
+                (j1, j1_line, inter) = self.domain_j3(&x0, &frame, shape, aux.map(|(mu, nu)| AuxFields { mu, nu, curvature }), &req.mirrors);
                 if let Some((mu, nu)) = aux {
                     // I_m = 2K_m/E′ (m = I, II), K_III/μ (plane strain, E′ = 2μ/(1 − ν)).
                     let e_prime = 2.0 * mu / (1.0 - nu);
@@ -940,6 +984,154 @@ impl Simulation<D2> {
     }
 }
 
+/// The in-plane curvature of the front at node `v`, signed along the node's e₁: 1/R for a
+/// front that curves back behind the node (the centre of its osculating circle at x₀ − R e₁,
+/// as on a penny crack), −1/R for one that curves ahead, 0 for a straight front. From the
+/// circle through the node and its two neighbours along the front's edges; a node at an end
+/// of the front (one neighbour) takes its neighbour's circle (on a mirror plane the mirrored
+/// neighbour gives the same circle); a branch point, or a node whose circle is undefined,
+/// gets 0.
+pub fn front_curvature(crack: &Crack3, adjacent: &BTreeMap<u32, Vec<u32>>, v: u32, frame: &FrontFrame) -> f64 {
+    let pts = &crack.surface.vertices;
+    let circle = |u: u32| -> Option<Vector3> {
+        let [p, q] = adjacent.get(&u).filter(|n| n.len() == 2).map(|n| [n[0], n[1]])?;
+        let c = pts[u as usize];
+        let (a, b) = (pts[p as usize] - c, pts[q as usize] - c);
+        let axb = a.cross(&b);
+        let nn = axb.norm_squared();
+        if !(nn > 1e-24 * a.norm_squared() * b.norm_squared()) {
+            return None;
+        }
+        // The circumcentre of the three points, from u.
+        Some((b * a.norm_squared() - a * b.norm_squared()).cross(&axb) / (2.0 * nn))
+    };
+    let centre = match adjacent.get(&v).map(Vec::len) {
+        Some(2) => circle(v),
+        Some(1) => circle(adjacent[&v][0]).map(|c| c + pts[adjacent[&v][0] as usize] - pts[v as usize]),
+        _ => None,
+    };
+    // Its projection on e₁ only: a planar front's circle lies in the (e₁, e₃) plane.
+    centre.map_or(0.0, |c| -c.dot(&frame.e1) / c.norm_squared())
+}
+
+/// The auxiliary fields of the interaction integral at a front node ([`aux_fields`]), laid
+/// along the front's osculating circle in the crack plane rather than along its tangent
+/// line: a point at d (node frame) is referred to the nearest point of the circle of radius
+/// 1/κ through the node, where the local frame (e₁′, e₂, e₃′) is the node's turned about e₂
+/// by the angle φ round the circle; (r, θ) are its polar coordinates in that point's
+/// (e₁′, e₂) plane and the unit-K field is taken there, turned back into the node frame.
+/// On a curved front the tangent-line fields put the singularity up to L²κ/2 off the front
+/// at the ends ±L of the domain (0.4 cells at a/h = 5, L = 2 cells), where ∇q is largest;
+/// Walters, Paulino & Dodds (2005, Comput. Methods Appl. Mech. Engrg. 194) define the
+/// auxiliary fields in these curvilinear coordinates for that reason. The derivative along
+/// the node's e₁ is that of the curvilinear displacement field: cos φ ∂u/∂x₁′ and the turn of
+/// the local basis (∂φ/∂x₁ = −sin φ/ρ). The terms of the auxiliary field's own
+/// incompatibility (O(κ) over the volume, weighted by q rather than ∇q) are left out. κ = 0
+/// is the tangent-line field itself.
+#[derive(Clone, Copy, Debug)]
+pub struct AuxFields {
+    pub mu: f64,
+    pub nu: f64,
+    /// [`front_curvature`] at the node.
+    pub curvature: f64,
+}
+
+impl AuxFields {
+    /// σ⁽ᵐ⁾ and ∂u⁽ᵐ⁾/∂x₁ (node-frame components) at d (node frame); None on the front line.
+    pub fn at(&self, m: usize, d: &Vector3) -> Option<(Tensor3, Vector3)> {
+        let k = self.curvature;
+        if k == 0.0 {
+            let r = (d.x * d.x + d.y * d.y).sqrt();
+            return (r > 0.0).then(|| aux_fields(m, r, d.y.atan2(d.x), self.mu, self.nu));
+        }
+        // The circle's centre at −e₁/κ. (pa, pc): the point's in-plane offset from it along
+        // (e₁, e₃), turned by sgn κ so that it points from the centre toward the material
+        // ahead of the front: its direction is e₁′ = (cos φ, 0, sin φ), e₃′ = e₁′ × e₂ =
+        // (−sin φ, 0, cos φ), and x₁′ = sgn κ (ρ − R) the distance ahead of the circle.
+        let sgn = k.signum();
+        let big_r = 1.0 / k.abs();
+        let (pa, pc) = (sgn * d.x + big_r, sgn * d.z);
+        let rho = (pa * pa + pc * pc).sqrt();
+        if !(rho > 0.0) {
+            return None;
+        }
+        let (cf, sf) = (pa / rho, pc / rho);
+        let x1 = sgn * (rho - big_r);
+        let r = (x1 * x1 + d.y * d.y).sqrt();
+        if !(r > 0.0) {
+            return None;
+        }
+        let th = d.y.atan2(x1);
+        let (sa, dua) = aux_fields(m, r, th, self.mu, self.nu);
+        let u = aux_displacement(m, r, th, self.mu, self.nu);
+        // Columns e₁′, e₂, e₃′ in node components.
+        let q = Tensor3::new(cf, 0.0, -sf, 0.0, 1.0, 0.0, sf, 0.0, cf);
+        // ∂/∂x₁ of u = u₁′e₁′ + u₂′e₂ + u₃′e₃′ (local components): ∂x₁′/∂x₁ = cos φ,
+        // ∂φ/∂x₁ = −sgn κ sin φ/ρ, ∂e₁′/∂φ = e₃′, ∂e₃′/∂φ = −e₁′.
+        let dphi = -sgn * sf / rho;
+        let du_local = dua * cf + Vector3::new(-u.z, 0.0, u.x) * dphi;
+        Some((q * sa * q.transpose(), q * du_local))
+    }
+}
+
+impl AuxFields {
+    /// The divergence of the interaction integrand at d (node frame) where the auxiliary
+    /// fields are curvilinear (κ ≠ 0; None for κ = 0, where the 2D fields satisfy
+    /// equilibrium and compatibility exactly and it vanishes): with P_j = σ_ij u⁽ᵐ⁾_i,1 +
+    /// σ⁽ᵐ⁾_ij u_i,1 − σ_kl ε⁽ᵐ⁾_kl δ_1j, the real field in equilibrium without body force
+    /// and compatible, and ε⁽ᵐ⁾ = C⁻¹σ⁽ᵐ⁾,
+    ///
+    /// P_j,j = σ⁽ᵐ⁾_ij,j u_i,1 + σ_ij (u⁽ᵐ⁾_i,1j − ε⁽ᵐ⁾_ij,1),
+    ///
+    /// the auxiliary field's lack of equilibrium and of compatibility (Walters, Paulino &
+    /// Dodds 2005, eq. 24's two volume terms), so that I = ∫ P_j q,_j + ∫ P_j,j q is the
+    /// front's interaction energy whatever fields are used. `sigma` and `du1` are the real
+    /// field's σ and ∂u/∂x₁ at the point (node frame). The derivatives of σ⁽ᵐ⁾ and
+    /// ∂u⁽ᵐ⁾/∂x₁ by central differences of [`AuxFields::at`] over ±10⁻⁴ r (r from the
+    /// circle), whose error (≈ 10⁻⁸ of the term) is far below the integral's.
+    pub fn divergence(&self, m: usize, d: &Vector3, sigma: &Tensor3, du1: &Vector3) -> Option<f64> {
+        if self.curvature == 0.0 {
+            return None;
+        }
+        let r = {
+            let (sgn, big_r) = (self.curvature.signum(), 1.0 / self.curvature.abs());
+            let x1 = sgn * ((sgn * d.x + big_r).hypot(sgn * d.z) - big_r);
+            x1.hypot(d.y)
+        };
+        let h = 1e-4 * r;
+        if !(h > 0.0) {
+            return None;
+        }
+        let mut div = Vector3::zeros();
+        let mut grad_du = Tensor3::zeros();
+        let mut dsig1 = Tensor3::zeros();
+        for j in 0..3 {
+            let e = Vector3::ith(j, h);
+            let (sp, up) = self.at(m, &(d + e))?;
+            let (sm, um) = self.at(m, &(d - e))?;
+            let ds = (sp - sm) / (2.0 * h);
+            div += ds.column(j);
+            grad_du.set_column(j, &((up - um) / (2.0 * h)));
+            if j == 0 {
+                dsig1 = ds;
+            }
+        }
+        // ε = ((1 + ν)σ − ν tr σ I)/E, E = 2μ(1 + ν).
+        let e = 2.0 * self.mu * (1.0 + self.nu);
+        let deps1 = (dsig1 * (1.0 + self.nu) - Tensor3::identity() * (self.nu * dsig1.trace())) / e;
+        Some(div.dot(du1) + sigma.component_mul(&(grad_du - deps1)).sum())
+    }
+}
+
+/// The displacement of [`aux_fields`]' unit-K field (local components).
+fn aux_displacement(m: usize, r: f64, th: f64, mu: f64, nu: f64) -> Vector3 {
+    if m == 2 {
+        return Vector3::new(0.0, 0.0, crate::fracture::williams::williams_displacement_iii(r, th, mu));
+    }
+    let w = crate::fracture::williams::williams_displacement(m as u8 + 1, r, th, mu, 3.0 - 4.0 * nu);
+    Vector3::new(w.x, w.y, 0.0)
+}
+
 /// The auxiliary fields of the interaction integral: the near-front field of unit K in
 /// mode `m` (0: I, 1: II, plane strain, κ = 3 − 4ν; 2: III, antiplane shear) at local polar
 /// coordinates (r, θ) in the front's (x₁, x₂) plane ([`williams_aux`], [`williams_aux_iii`]),
@@ -995,6 +1187,149 @@ mod tests {
                 let (sig, _) = aux_fields(m, 0.8, th, mu, nu);
                 let t = sig * Vector3::y();
                 assert!(t.abs().max() < 1e-12, "mode {m}: face θ = {th} not traction free: {t:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn curvilinear_auxiliary_fields() {
+        // The fields laid along a circle of curvature κ (either sign): on the node's own
+        // (e₁, e₂) plane they are the tangent-line fields; elsewhere ∂u/∂x₁ is the derivative
+        // of the curvilinear displacement (the field of a point referred to the circle's
+        // nearest point, turned into node components), by central differences; the stress
+        // is the local one turned; and κ → 0 gives the tangent-line fields.
+        let (mu, nu) = (750.0, 0.3);
+        for k in [0.1, -0.1] {
+            let aux = AuxFields { mu, nu, curvature: k };
+            let u_node = |m: usize, d: Vector3| {
+                let (sgn, big_r) = (f64::signum(k), 1.0 / f64::abs(k));
+                let (pa, pc) = (sgn * d.x + big_r, sgn * d.z);
+                let rho = f64::hypot(pa, pc);
+                let (cf, sf) = (pa / rho, pc / rho);
+                let x1 = sgn * (rho - big_r);
+                let (r, th) = (f64::hypot(x1, d.y), d.y.atan2(x1));
+                let u = aux_displacement(m, r, th, mu, nu);
+                Vector3::new(cf, 0.0, sf) * u.x + Vector3::y() * u.y + Vector3::new(-sf, 0.0, cf) * u.z
+            };
+            for m in 0..3 {
+                for d in [Vector3::new(0.7, 0.3, 0.0), Vector3::new(-0.6, 0.4, 1.5), Vector3::new(0.3, -0.9, -2.0), Vector3::new(-1.0, 0.2, 2.5)] {
+                    let (sig, du1) = aux.at(m, &d).unwrap();
+                    let e = 1e-6;
+                    let fd = (u_node(m, d + Vector3::x() * e) - u_node(m, d - Vector3::x() * e)) / (2.0 * e);
+                    assert!((du1 - fd).abs().max() < 1e-6 * fd.abs().max().max(1e-3 / mu), "κ {k}, mode {m} at {d:?}: ∂u/∂x₁ {du1:?} vs {fd:?}");
+                    if d.z == 0.0 {
+                        let (s0, du0) = aux_fields(m, f64::hypot(d.x, d.y), d.y.atan2(d.x), mu, nu);
+                        assert!((sig - s0).abs().max() < 1e-12 * s0.abs().max() && (du1 - du0).abs().max() < 1e-12 * du0.abs().max().max(1e-300));
+                    }
+                    // κ = ±1e−6: the curvature's own effect O(κ|d|) and the cancellation in
+                    // ρ − 1/κ (1e−16/κ) both well under 1e−4.
+                    let flat = AuxFields { mu, nu, curvature: k * 1e-5 }.at(m, &d).unwrap();
+                    let (s0, du0) = AuxFields { mu, nu, curvature: 0.0 }.at(m, &d).unwrap();
+                    assert!((flat.0 - s0).abs().max() < 1e-4 * s0.abs().max() && (flat.1 - du0).abs().max() < 1e-4 * du0.abs().max().max(1e-3 / mu));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn curvilinear_interaction_integral_vanishes_without_a_singularity() {
+        // The interaction of a smooth elastic field with the unit-K fields of a front is
+        // zero over any domain: by the divergence theorem ∫ P_j q,_j + ∫ P_j,j q +
+        // ∫ [σ_i2 u⁽ᵐ⁾_i,1]⁺₋ q dA = 0, the last over the crack faces (the field's traction
+        // against the jump of ∂u⁽ᵐ⁾/∂x₁; the auxiliary faces are free), nothing at the
+        // front (σ bounded). With the tangent-line fields of a straight front the second
+        // term vanishes; with the fields laid along a circle of radius 5 (front_j_inclined's
+        // a/h at L = 2 cells) it does not, and without it the sum is off. Two fields: a
+        // uniform stress (modes I, II; mode III's divergence integrates to zero against it
+        // by parity in x₂) and σ₁₃ = x₂, u = (x₂x₃, −x₁x₃, x₁x₂)/2μ (mode III; no face
+        // traction). q is the tube about the front (its distance from the circle, ramp
+        // from 1 to 2, ψ over |x₃| < 2). Quadrature in (φ round the circle, t = √r, θ) and
+        // (φ, t = √−x₁′) on the faces, midpoint rules on pieces where the integrand is
+        // smooth (r = t² takes out the r^−½).
+        let (mu, nu) = (750.0, 0.3);
+        let e = 2.0 * mu * (1.0 + nu);
+        let compliance = move |s: Tensor3| (s * (1.0 + nu) - Tensor3::identity() * (nu * s.trace())) / e;
+        let uniform = Tensor3::new(1.0, 0.4, 0.3, 0.4, 0.8, 0.2, 0.3, 0.2, 0.5);
+        // (σ, ε, ∂u/∂x₁) at d.
+        type Field = Box<dyn Fn(&Vector3) -> (Tensor3, Tensor3, Vector3)>;
+        let fields: [(Field, [bool; 3]); 2] = [
+            (Box::new(move |_: &Vector3| (uniform, compliance(uniform), compliance(uniform).column(0).into_owned())), [true, true, false]),
+            (
+                Box::new(move |d: &Vector3| {
+                    let s = Tensor3::new(0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.y, 0.0, 0.0);
+                    (s, compliance(s), Vector3::new(0.0, -d.z, d.y) / (2.0 * mu))
+                }),
+                [false, false, true],
+            ),
+        ];
+        let shape = DomainShape { inner: 1.0, outer: 2.0, along: 2.0 };
+        let frame = FrontFrame { e1: Vector3::x(), e2: Vector3::y(), e3: Vector3::z() };
+        let mid = |i: usize, n: usize, a: f64, b: f64| a + (i as f64 + 0.5) * (b - a) / n as f64;
+        for (field, tested) in &fields {
+            for k in [0.0, 0.2, -0.2] {
+                let aux = AuxFields { mu, nu, curvature: k };
+                let (sgn, big_r) = (if k < 0.0 { -1.0 } else { 1.0 }, if k == 0.0 { f64::INFINITY } else { 1.0 / k.abs() });
+                // The point at (φ, x₁′, x₂) (for k = 0, φ is x₃) and the volume's Jacobian ρ (1).
+                let point = |phi: f64, x1: f64, x2: f64| -> (Vector3, f64) {
+                    if k == 0.0 {
+                        return (Vector3::new(x1, x2, phi), 1.0);
+                    }
+                    let rho = big_r + sgn * x1;
+                    (Vector3::new(sgn * (rho * phi.cos() - big_r), x2, rho * phi.sin()), rho)
+                };
+                let local = |x: Vector3| if k == 0.0 { x } else { Vector3::new(sgn * (f64::hypot(sgn * x.x + big_r, sgn * x.z) - big_r), x.y, x.z) };
+                let q_at = |x: Vector3| shape.weight(&local(x), &frame).0;
+                let phi_max = if k == 0.0 { 2.0 } else { (2.0 / (big_r - 2.0)).asin() };
+                let (np, nt, nth) = (96, 24, 96);
+                let (mut vol, mut div, mut face, mut scale) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+                for ip in 0..np {
+                    let phi = mid(ip, np, -phi_max, phi_max);
+                    let dphi = 2.0 * phi_max / np as f64;
+                    for (t0, t1) in [(0.0, 1.0), (1.0, 2f64.sqrt())] {
+                        for it in 0..nt {
+                            let t = mid(it, nt, t0, t1);
+                            let (r, dr) = (t * t, 2.0 * t * (t1 - t0) / nt as f64);
+                            for ith in 0..nth {
+                                let th = mid(ith, nth, -PI, PI);
+                                let (d, jac) = point(phi, r * th.cos(), r * th.sin());
+                                let dv = jac * r * dr * (2.0 * PI / nth as f64) * dphi;
+                                let q = q_at(d);
+                                let gq = Vector3::from_fn(|j, _| (q_at(d + Vector3::ith(j, 1e-7)) - q_at(d - Vector3::ith(j, 1e-7))) / 2e-7);
+                                let (sig, eps, du1) = field(&d);
+                                for m in 0..3 {
+                                    let (sa, dua) = aux.at(m, &d).unwrap();
+                                    let t = (sig * gq).dot(&dua) + (sa * gq).dot(&du1) - sa.component_mul(&eps).sum() * gq.x;
+                                    vol[m] += t * dv;
+                                    scale[m] += t.abs() * dv;
+                                    if let Some(w) = aux.divergence(m, &d, &sig, &du1) {
+                                        div[m] += q * w * dv;
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    for (t0, t1) in [(0.0, 1.0), (1.0, 2f64.sqrt())] {
+                        for it in 0..nt {
+                            let t = mid(it, nt, t0, t1);
+                            let (x1, dx1) = (-t * t, 2.0 * t * (t1 - t0) / nt as f64);
+                            let ((up, jac), (dn, _)) = (point(phi, x1, 0.0), point(phi, x1, -0.0));
+                            let q = q_at(up);
+                            let traction = field(&up).0.column(1).into_owned();
+                            for (m, f) in face.iter_mut().enumerate() {
+                                let ((_, a), (_, b)) = (aux.at(m, &up).unwrap(), aux.at(m, &dn).unwrap());
+                                *f += traction.dot(&(a - b)) * q * jac * dx1 * dphi;
+                            }
+                        }
+                    }
+                }
+                for m in (0..3).filter(|&m| tested[m]) {
+                    let with = (vol[m] + div[m] + face[m]) / scale[m];
+                    let without = (vol[m] + face[m]) / scale[m];
+                    assert!(with.abs() < 2e-4, "κ {k}, mode {m}: I/∫|P q,j| {with:e} with the divergence ({without:e} without)");
+                    if k != 0.0 {
+                        assert!(without.abs() > 20.0 * with.abs(), "κ {k}, mode {m}: {without:e} without, {with:e} with");
+                    }
+                }
             }
         }
     }

@@ -581,7 +581,8 @@ pub fn inclined(file: SceneFile, geom: InclinedGeometry) -> anyhow::Result<Incli
     let tangents = own_t.iter().filter(|(v, _)| crack.surface.vertices[**v as usize].y.abs() <= 1e-9 * INCL_A).map(|(&v, t)| (v, Vector3::y() * t.y.signum())).collect();
     let req = FrontRequest { tangents, ..own.clone() };
     let shape = DomainShape { inner: 2.0 * h, outer: 3.0 * h, along: 2.0 * h };
-    let dreq = FrontRequest { domain: Some(shape), ..req.clone() };
+    // The half model's mirror plane y = 0 completes the domains that reach it.
+    let dreq = FrontRequest { domain: Some(shape), mirrors: vec![(1, 0.0)], ..req.clone() };
     sim.run_until(0.9 * s.solver.end_time, |_| {})?;
     let k_at_09 = front_average_k1(&sim.front_fracture(0, &dreq));
     sim.run_until(s.solver.end_time, |_| {})?;
@@ -832,7 +833,9 @@ fn report_inclined(out: &mut CaseOutput, r: &InclinedRun, suffix: &str, what: &s
     for m in 0..3 {
         series.push(Series::line(&format!("{} domain", names[m]), order.iter().map(|&i| (r.theta[i].to_degrees(), kd[i][m] / unit)).collect()).with_markers());
         series.push(Series::line(&format!("{} contour r → 0", names[m]), order.iter().map(|&i| (r.theta[i].to_degrees(), r.k0[i][m] / unit)).collect()).with_markers());
-        series.push(Series::line(&format!("{} interaction", names[m]), order.iter().map(|&i| (r.theta[i].to_degrees(), ki[i][m] / unit)).collect()).with_markers());
+        // Nodes without a value (K_III where the body cuts the domain and no mirror completes
+        // it) are left out of the line.
+        series.push(Series::line(&format!("{} interaction", names[m]), order.iter().filter(|&&i| ki[i][m].is_finite()).map(|&i| (r.theta[i].to_degrees(), ki[i][m] / unit)).collect()).with_markers());
         series.push(Series::reference(
             &format!("{} Kassir & Sih", names[m]),
             (0..=180).map(|d| d as f64 * if r.theta.iter().sum::<f64>() < 0.0 { -1.0 } else { 1.0 }).map(|d| (d, kassir_sih(r.sigma, INCL_A, gamma, r.nu, d.to_radians())[m] / unit)).collect(),
