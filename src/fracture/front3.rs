@@ -872,7 +872,21 @@ impl Simulation<D3> {
     /// J and K at the requested front nodes of crack c after the last completed step.
     pub fn front_fracture(&self, c: usize, req: &FrontRequest) -> Vec<FrontResult> {
         let crack = &self.cracks[c];
-        let frames: HashMap<u32, FrontFrame> = front_frames_with(crack, &req.tangents, &req.normals).into_iter().collect();
+        // On a mirror plane the mirrored front continues the real one, so the whole front's
+        // tangent at a node on the plane is the plane's normal (the node's own, from its one
+        // edge, is tilted by half an edge angle); the request's own tangents come first.
+        let mut tangents = req.tangents.clone();
+        if !req.mirrors.is_empty() {
+            let tol = 1e-9 * self.grid.min_h();
+            let own = front_tangents(crack, |p, q| crack.surface.vertices[q as usize] - crack.surface.vertices[p as usize]);
+            for (v, t) in own {
+                let x = crack.surface.vertices[v as usize];
+                if let Some(&(a, _)) = req.mirrors.iter().find(|&&(a, at)| (x[a] - at).abs() <= tol) {
+                    tangents.entry(v).or_insert_with(|| Vector3::ith(a, t[a].signum()));
+                }
+            }
+        }
+        let frames: HashMap<u32, FrontFrame> = front_frames_with(crack, &tangents, &req.normals).into_iter().collect();
         let slab = self.grid.min_h();
         let mut cache = HashMap::new();
         let mut adjacency = None;

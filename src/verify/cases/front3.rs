@@ -313,7 +313,8 @@ pub fn penny(a_cells: f64, radii: &[f64]) -> anyhow::Result<PennyRun> {
     let j0: Vec<f64> = (0..front.len()).map(|n| line_fit(&fit.iter().map(|(rc, f)| (*rc, f[n].j1)).collect::<Vec<_>>()).0).collect();
     let k0 = front.iter().zip(&j0).map(|(f, &j)| f.k[0] * (j / f.j1).sqrt()).collect();
     let settled = k_at_09 / front_average_k1(&front) - 1.0;
-    let dreq = FrontRequest { domain: Some(DomainShape { inner: 2.0 * h, outer: 3.0 * h, along: 2.0 * h }), ..req.clone() };
+    // The quarter model's symmetry planes x = 0 and y = 0 complete the domains that reach them.
+    let dreq = FrontRequest { domain: Some(DomainShape { inner: 2.0 * h, outer: 3.0 * h, along: 2.0 * h }), mirrors: vec![(0, 0.0), (1, 0.0)], ..req.clone() };
     let front_domain = sim.front_fracture(0, &dreq);
     let front_interaction = sim.front_fracture(0, &FrontRequest { interaction: true, ..dreq });
     Ok(PennyRun { a_cells, h, sigma, k_ref, radius_cells: req.radius / h, front, j_vs_radius, j0, k0, front_domain, front_interaction, settled, seconds, particles: sim.particles.len(), steps: sim.step_count, seconds_front })
