@@ -803,9 +803,7 @@ impl Simulation<D3> {
                 if q == 0.0 && gq == Vector3::zeros() {
                     continue;
                 }
-                // The material's extent along the front line, from the particles' domains.
-                let c = d.dot(&frame.e3);
-                let ext = (0..3).map(|a| p.lp[i][a] * frame.e3[a].abs()).sum::<f64>();
+                // The material's extent along the front line inside ψ's support (for ∫ψ).
                 lo = lo.min(c - ext);
                 hi = hi.max(c + ext);
                 let (acl, vel, grad_v) = *motion.get_or_insert_with(|| self.particle_motion3(i));
@@ -853,13 +851,14 @@ impl Simulation<D3> {
         }
         let st = stat.value() / len;
         // Mode III's unit field is odd along the front at a plane normal to it, so where the
-        // body cuts the weight ψ (a symmetry plane not given in `mirrors`, or a free face, within `along` of the
-        // node) the missing part does not mirror the present one as it does for J₁ and modes
-        // I, II: not given (on the inclined penny's half model I_III read up to 2 amplitudes
-        // off within `along` of the mirror plane, where K_III → 0).
-        // (The particles inside ψ's support alone can end a hair short of ±L where a
-        // particle box ends near it on a front oblique to the grid: 3e−4 of a cell on the
-        // inclined penny's mirror nodes read as cut.)
+        // body cuts the weight ψ (a symmetry plane not given in `mirrors`, or a free face,
+        // within `along` of the node) the missing part does not mirror the present one as it
+        // does for J₁ and modes I, II: not given (on the inclined penny's half model I_III read
+        // up to 2 amplitudes off within `along` of the mirror plane, where K_III → 0). The
+        // material's cover of ±L is read from the particles in the tube up to a box past ψ's
+        // ends: those inside the support alone can end a hair short of ±L where a particle box
+        // ends near it on a front oblique to the grid (3e−4 of a cell on the inclined penny's
+        // mirror nodes, read as cut).
         let whole = cover.0 <= -shape.along && cover.1 >= shape.along;
         (st + dynm.value() / len, st, std::array::from_fn(|m| if m == 2 && !whole { f64::NAN } else { inter[m].value() / len }))
     }
