@@ -1060,6 +1060,20 @@ pub struct AuxFields {
 }
 
 impl AuxFields {
+    /// Where d (node frame, κ ≠ 0) lies from the circle: (x₁′, ρ, cos φ, sin φ). The circle's
+    /// centre is at −e₁/κ; (ρ cos φ, ρ sin φ) is the point's in-plane offset from it along
+    /// (e₁, e₃), turned by sgn κ so that it points from the centre toward the material ahead
+    /// of the front: its direction is e₁′ = (cos φ, 0, sin φ), e₃′ = e₁′ × e₂ =
+    /// (−sin φ, 0, cos φ), and x₁′ = sgn κ (ρ − R) is the distance ahead of the circle. None
+    /// at the centre.
+    fn from_circle(&self, d: &Vector3) -> Option<(f64, f64, f64, f64)> {
+        let sgn = self.curvature.signum();
+        let big_r = 1.0 / self.curvature.abs();
+        let (pa, pc) = (sgn * d.x + big_r, sgn * d.z);
+        let rho = (pa * pa + pc * pc).sqrt();
+        (rho > 0.0).then(|| (sgn * (rho - big_r), rho, pa / rho, pc / rho))
+    }
+
     /// σ⁽ᵐ⁾ and ∂u⁽ᵐ⁾/∂x₁ (node-frame components) at d (node frame); None on the front line.
     pub fn at(&self, m: usize, d: &Vector3) -> Option<(Tensor3, Vector3)> {
         let k = self.curvature;
@@ -1067,19 +1081,7 @@ impl AuxFields {
             let r = (d.x * d.x + d.y * d.y).sqrt();
             return (r > 0.0).then(|| aux_fields(m, r, d.y.atan2(d.x), self.mu, self.nu));
         }
-        // The circle's centre at −e₁/κ. (pa, pc): the point's in-plane offset from it along
-        // (e₁, e₃), turned by sgn κ so that it points from the centre toward the material
-        // ahead of the front: its direction is e₁′ = (cos φ, 0, sin φ), e₃′ = e₁′ × e₂ =
-        // (−sin φ, 0, cos φ), and x₁′ = sgn κ (ρ − R) the distance ahead of the circle.
-        let sgn = k.signum();
-        let big_r = 1.0 / k.abs();
-        let (pa, pc) = (sgn * d.x + big_r, sgn * d.z);
-        let rho = (pa * pa + pc * pc).sqrt();
-        if !(rho > 0.0) {
-            return None;
-        }
-        let (cf, sf) = (pa / rho, pc / rho);
-        let x1 = sgn * (rho - big_r);
+        let (x1, rho, cf, sf) = self.from_circle(d)?;
         let r = (x1 * x1 + d.y * d.y).sqrt();
         if !(r > 0.0) {
             return None;
@@ -1091,7 +1093,7 @@ impl AuxFields {
         let q = Tensor3::new(cf, 0.0, -sf, 0.0, 1.0, 0.0, sf, 0.0, cf);
         // ∂/∂x₁ of u = u₁′e₁′ + u₂′e₂ + u₃′e₃′ (local components): ∂x₁′/∂x₁ = cos φ,
         // ∂φ/∂x₁ = −sgn κ sin φ/ρ, ∂e₁′/∂φ = e₃′, ∂e₃′/∂φ = −e₁′.
-        let dphi = -sgn * sf / rho;
+        let dphi = -k.signum() * sf / rho;
         let du_local = dua * cf + Vector3::new(-u.z, 0.0, u.x) * dphi;
         Some((q * sa * q.transpose(), q * du_local))
     }
@@ -1116,11 +1118,7 @@ impl AuxFields {
         if self.curvature == 0.0 {
             return None;
         }
-        let r = {
-            let (sgn, big_r) = (self.curvature.signum(), 1.0 / self.curvature.abs());
-            let x1 = sgn * ((sgn * d.x + big_r).hypot(sgn * d.z) - big_r);
-            x1.hypot(d.y)
-        };
+        let r = self.from_circle(d)?.0.hypot(d.y);
         let h = 1e-4 * r;
         if !(h > 0.0) {
             return None;
@@ -1225,11 +1223,7 @@ mod tests {
         for k in [0.1, -0.1] {
             let aux = AuxFields { mu, nu, curvature: k };
             let u_node = |m: usize, d: Vector3| {
-                let (sgn, big_r) = (f64::signum(k), 1.0 / f64::abs(k));
-                let (pa, pc) = (sgn * d.x + big_r, sgn * d.z);
-                let rho = f64::hypot(pa, pc);
-                let (cf, sf) = (pa / rho, pc / rho);
-                let x1 = sgn * (rho - big_r);
+                let (x1, _, cf, sf) = aux.from_circle(&d).unwrap();
                 let (r, th) = (f64::hypot(x1, d.y), d.y.atan2(x1));
                 let u = aux_displacement(m, r, th, mu, nu);
                 Vector3::new(cf, 0.0, sf) * u.x + Vector3::y() * u.y + Vector3::new(-sf, 0.0, cf) * u.z
