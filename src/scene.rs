@@ -101,6 +101,11 @@ pub struct SolverSpec {
     /// Particles per cell per direction (default 2).
     #[serde(default = "default_ppc")]
     pub particles_per_cell: usize,
+    /// Where each body's particle lattice is anchored: "grid" (default: the grid's cells,
+    /// particles at the same places in every cell) or "body" (the corner of the body's
+    /// bounding box, so the particles move with the body when the scene moves on the grid).
+    #[serde(default, skip_serializing_if = "Lattice::is_grid")]
+    pub lattice: Lattice,
     /// Invariant checks every step (default true).
     #[serde(default = "default_true")]
     pub checked: bool,
@@ -121,6 +126,39 @@ pub struct SolverSpec {
 
 fn is_zero(v: &f64) -> bool {
     *v == 0.0
+}
+
+/// Where a body's particle lattice (`particles_per_cell`ⁿ particles per cell-sized block,
+/// at the centres of its sub-cells) is anchored: `solver.lattice`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Lattice {
+    /// The grid's cells (Nairn 2003 and the papers' examples): a particle sits at the same
+    /// place in every cell, and a body's edge that falls on a particle row keeps that row
+    /// (the fill is inclusive), so the discrete body changes when the scene is moved on
+    /// the grid by a fraction of a cell.
+    #[default]
+    Grid,
+    /// The lower corner of the body's bounding box: the body's particles are the same
+    /// relative to the body wherever it lies on the grid (a box whose sides are whole
+    /// multiples of the particle spacing is tiled exactly, with no row on its edges), so
+    /// moving a scene on the grid moves only the grid under the material (issue 22).
+    Body,
+}
+
+impl Lattice {
+    fn is_grid(&self) -> bool {
+        *self == Lattice::Grid
+    }
+
+    /// The point the lattice of a body with bounding-box lower corner `body_min` is
+    /// anchored to, on a grid with origin `grid_origin` (per coordinate).
+    pub fn anchor(self, grid_origin: f64, body_min: f64) -> f64 {
+        match self {
+            Lattice::Grid => grid_origin,
+            Lattice::Body => body_min,
+        }
+    }
 }
 
 /// Default of `solver.max_steps`: 10⁸ steps (days of run time for a few thousand particles).
@@ -981,17 +1019,45 @@ impl Scene {
         // body is not filled again (first body wins). Only the cells the bodies' boxes
         // touch are visited.
         let mut owner: Vec<Vec<Vector>> = vec![Vec::new(); self.bodies.len()];
-        let [(ix0, ix1), (iy0, iy1)] = self.body_cells(&grid);
-        for iy in iy0..iy1 {
-            for ix in ix0..ix1 {
-                for b in 0..n {
-                    for a in 0..n {
-                        let x = Vector::new(
-                            grid.origin.x + grid.h.x * (ix as f64 + (a as f64 + 0.5) / n as f64),
-                            grid.origin.y + grid.h.y * (iy as f64 + (b as f64 + 0.5) / n as f64),
-                        );
-                        if let Some(k) = self.bodies.iter().position(|body| body.shape.contains(&x)) {
-                            owner[k].push(x);
+        match self.solver.lattice {
+            Lattice::Grid => {
+                let [(ix0, ix1), (iy0, iy1)] = self.body_cells(&grid);
+                for iy in iy0..iy1 {
+                    for ix in ix0..ix1 {
+                        for b in 0..n {
+                            for a in 0..n {
+                                let x = Vector::new(
+                                    grid.origin.x + grid.h.x * (ix as f64 + (a as f64 + 0.5) / n as f64),
+                                    grid.origin.y + grid.h.y * (iy as f64 + (b as f64 + 0.5) / n as f64),
+                                );
+                                if let Some(k) = self.bodies.iter().position(|body| body.shape.contains(&x)) {
+                                    owner[k].push(x);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            Lattice::Body => {
+                // Each body on its own lattice from its box's lower corner; a point inside an
+                // earlier body is that body's (first body wins, as on the grid's lattice).
+                for (k, body) in self.bodies.iter().enumerate() {
+                    let (bmin, bmax) = body.shape.bounds();
+                    self.check_body_in_grid(k, &grid)?;
+                    let cells = |c: usize| ((bmax[c] - bmin[c]) / grid.h[c]).ceil() as usize + 1;
+                    for iy in 0..cells(1) {
+                        for ix in 0..cells(0) {
+                            for b in 0..n {
+                                for a in 0..n {
+                                    let x = Vector::new(
+                                        bmin.x + grid.h.x * (ix as f64 + (a as f64 + 0.5) / n as f64),
+                                        bmin.y + grid.h.y * (iy as f64 + (b as f64 + 0.5) / n as f64),
+                                    );
+                                    if body.shape.contains(&x) && !self.bodies[..k].iter().any(|e| e.shape.contains(&x)) {
+                                        owner[k].push(x);
+                                    }
+                                }
+                            }
                         }
                     }
                 }
@@ -1015,13 +1081,8 @@ impl Scene {
             }
         }
         // Particles must lie inside the grid (with their uGIMP domain).
-        let lo = grid.origin;
-        let hi = grid.max_corner();
-        for (k, body) in self.bodies.iter().enumerate() {
-            let (bmin, bmax) = body.shape.bounds();
-            if bmin.x < lo.x || bmin.y < lo.y || bmax.x > hi.x || bmax.y > hi.y {
-                return Err(invalid(format!("bodies[{k}].shape"), format!("extends outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
-            }
+        for k in 0..self.bodies.len() {
+            self.check_body_in_grid(k, &grid)?;
         }
         // Loads: the total force is shared by the selected particles.
         let mut loads = Vec::new();
@@ -1097,6 +1158,16 @@ impl Scene {
 
     /// Cell ranges [ix0, ix1) × [iy0, iy1) that hold every particle position of every body:
     /// the cells the bodies' bounding boxes touch, with a cell of margin for round-off.
+    /// Body `k`'s bounding box lies inside the grid.
+    fn check_body_in_grid(&self, k: usize, grid: &Grid) -> Result<(), SceneError> {
+        let (lo, hi) = (grid.origin, grid.max_corner());
+        let (bmin, bmax) = self.bodies[k].shape.bounds();
+        if bmin.x < lo.x || bmin.y < lo.y || bmax.x > hi.x || bmax.y > hi.y {
+            return Err(invalid(format!("bodies[{k}].shape"), format!("extends outside the grid [{}, {}] × [{}, {}]", lo.x, hi.x, lo.y, hi.y)));
+        }
+        Ok(())
+    }
+
     fn body_cells(&self, grid: &Grid) -> [(usize, usize); 2] {
         let (mut lo, mut hi) = (Vector::new(f64::INFINITY, f64::INFINITY), Vector::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
         for b in &self.bodies {

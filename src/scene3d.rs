@@ -17,7 +17,7 @@ use crate::grid::Grid3;
 use crate::material::LinearElastic;
 use crate::motion::{BoundaryFields, BoundaryFn, Component, LoadVariation, LoadedParticle, MotionBuilder, TimeSpec, WilliamsSpec};
 use crate::particles::{Particles, NO_LOAD};
-use crate::scene::{OutputSpec, SceneError, SolverSpec};
+use crate::scene::{Lattice, OutputSpec, SceneError, SolverSpec};
 
 use crate::simulation::{cfl_time_step, Load, NodeBcs, Options, Simulation};
 use serde::{Deserialize, Serialize};
@@ -900,19 +900,29 @@ impl Scene3 {
             }
         }
         let mut filled = 0usize;
-        for iz in clo[2]..chi[2] {
-            for iy in clo[1]..chi[1] {
-                for ix in clo[0]..chi[0] {
-                    for cz in 0..n {
-                        for cy in 0..n {
-                            for cx in 0..n {
-                                let frac = |i: usize, c: usize| i as f64 + (c as f64 + 0.5) / n as f64;
-                                let x = Vector3::new(
-                                    grid.origin.x + grid.h.x * frac(ix, cx),
-                                    grid.origin.y + grid.h.y * frac(iy, cy),
-                                    grid.origin.z + grid.h.z * frac(iz, cz),
-                                );
-                                if let Some(k) = self.bodies.iter().enumerate().position(|(k, body)| body.shape.contains(&x, meshes[k].as_ref())) {
+        // The lattices to fill: the grid's, shared by every body (each point to the first body
+        // holding it), or each body's own from its box's lower corner (`solver.lattice`).
+        let lattices: Vec<(Option<usize>, Vector3, [usize; 3], [usize; 3])> = match self.solver.lattice {
+            Lattice::Grid => vec![(None, grid.origin, clo, chi)],
+            Lattice::Body => (0..self.bodies.len())
+                .map(|k| {
+                    let (a, b) = self.bodies[k].shape.bounds(meshes[k].as_ref());
+                    (Some(k), a, [0; 3], [0, 1, 2].map(|c| ((b[c] - a[c]) / grid.h[c]).ceil() as usize + 1))
+                })
+                .collect(),
+        };
+        for (only, anchor, clo, chi) in lattices {
+            for iz in clo[2]..chi[2] {
+                for iy in clo[1]..chi[1] {
+                    for ix in clo[0]..chi[0] {
+                        for cz in 0..n {
+                            for cy in 0..n {
+                                for cx in 0..n {
+                                    let frac = |i: usize, c: usize| i as f64 + (c as f64 + 0.5) / n as f64;
+                                    let x = Vector3::new(anchor.x + grid.h.x * frac(ix, cx), anchor.y + grid.h.y * frac(iy, cy), anchor.z + grid.h.z * frac(iz, cz));
+                                    let first = self.bodies.iter().enumerate().position(|(k, body)| body.shape.contains(&x, meshes[k].as_ref()));
+                                    // On a body's own lattice, its points that no earlier body holds.
+                                    let Some(k) = first.filter(|&k| only.is_none_or(|o| o == k)) else { continue };
                                     owner[k].push(x);
                                     filled += 1;
                                     if filled > MAX_PARTICLES {
