@@ -53,8 +53,15 @@ fn shifts(x: bool, lattice: Lattice) -> Vec<(f64, f64)> {
 /// default (its particles stay in the grid's cells, so the discrete body changes with the
 /// shift); the bodies' lattices move the particles with the scene, so only the grid moves
 /// under the material and the crack is the only thing that meets the grid differently.
-const SETTINGS: [(f64, Lattice, &str); 3] =
-    [(0.0, Lattice::Grid, "no zone, grid lattice"), (0.0, Lattice::Body, "no zone, body lattice"), (1.0, Lattice::Body, "zone 1 cell, body lattice")];
+/// The last setting splits J into K_I and K_II by the interaction integral (`cod =
+/// "interaction"`, rotation-robust in crack_rotation) instead of each case's own opening
+/// split, to tell the split's part from J's.
+const SETTINGS: [(f64, Lattice, bool, &str); 4] = [
+    (0.0, Lattice::Grid, false, "no zone, grid lattice"),
+    (0.0, Lattice::Body, false, "no zone, body lattice"),
+    (1.0, Lattice::Body, false, "zone 1 cell, body lattice"),
+    (1.0, Lattice::Body, true, "zone 1 cell, body lattice, interaction split"),
+];
 
 /// `solver.lattice` of a scene file.
 fn with_lattice(file: SceneFile, lattice: Lattice) -> SceneFile {
@@ -88,8 +95,9 @@ impl Subject {
         !matches!(self, Subject::Cct)
     }
 
-    /// (K_I, K_II), their references and J for shift (fx, fy), zone z and lattice.
-    fn run(self, fx: f64, fy: f64, z: f64, lattice: Lattice) -> anyhow::Result<([f64; 2], [f64; 2], f64)> {
+    /// (K_I, K_II), their references and J for shift (fx, fy), zone z, lattice and split
+    /// (the interaction integral, or the case's own opening split).
+    fn run(self, fx: f64, fy: f64, z: f64, lattice: Lattice, interaction: bool) -> anyhow::Result<([f64; 2], [f64; 2], f64)> {
         match self {
             Subject::Sent | Subject::Cct => {
                 let (kind, h, x0) = match self {
@@ -105,7 +113,8 @@ impl Subject {
                 let scene = with_lattice(file, lattice).load()?;
                 let mut sim = scene.build()?;
                 sim.run_until(scene.solver.end_time, |_| {})?;
-                let t = sim.tip_fracture(0, TipEnd::End, 2, false, CodMethod::NextToTip, 0.0)?;
+                let cod = if interaction { CodMethod::Interaction } else { CodMethod::NextToTip };
+                let t = sim.tip_fracture(0, TipEnd::End, 2, false, cod, 0.0)?;
                 Ok(([t.k1, t.k2], [kind.k_ref(a), 0.0], t.j1))
             }
             Subject::Dcb | Subject::Mixed => {
@@ -118,6 +127,7 @@ impl Subject {
                     Subject::Dcb => (beam(h, 1.0, -1.0, "none", 2, ARMS), [k_dcb(1.0, a), 0.0]),
                     _ => (beam(h, 1.0, 0.0, "none", split_contour(h), WHOLE_BEAM).set("cracks.0.fracture.cod", "\"fit\""), [0.5 * k_dcb(1.0, a), 0.5 * k_enf(1.0, a)]),
                 };
+                let file = if interaction { file.set("cracks.0.fracture.cod", "\"interaction\"") } else { file };
                 let scene = with_lattice(shift(file), lattice).load()?;
                 let r = crate::output::run_scene(&scene, &crate::output::RunOptions { checked: Some(false), ..Default::default() })?;
                 let t = r.tips.last().ok_or_else(|| anyhow::anyhow!("no cracks.csv rows"))?;
@@ -133,13 +143,13 @@ pub fn run(variant: Variant) -> anyhow::Result<CaseOutput> {
     let mut out = CaseOutput::default();
     let mut series = Vec::new();
     for subject in [Subject::Sent, Subject::Cct, Subject::Dcb, Subject::Mixed] {
-        for (z, lattice, zone) in SETTINGS {
+        for (z, lattice, interaction, zone) in SETTINGS {
             let mut base = None;
             let mut points = Vec::new();
             let (mut spread, mut worst, mut j_spread) = (0.0f64, 0.0f64, 0.0f64);
             for (k, (fx, fy)) in shifts(subject.shifts_x(), lattice).into_iter().enumerate() {
                 let started = std::time::Instant::now();
-                let (kv, refs, j) = subject.run(fx, fy, z, lattice)?;
+                let (kv, refs, j) = subject.run(fx, fy, z, lattice, interaction)?;
                 let wall = started.elapsed().as_secs_f64();
                 let (b, jb) = *base.get_or_insert((kv, j));
                 let e_j = j / jb - 1.0;
