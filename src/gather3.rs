@@ -324,6 +324,7 @@ unsafe fn mass_momentum_sum<A: Add4>(sim: &Simulation<D3>, mv: &[[f64; 4]], a: u
     let (lo, hi) = (pairs.start[a] as usize, pairs.start[a + 1] as usize);
     let (items, owner) = (&pairs.items, &sim.scratch.item_particle);
     let end = items.len().min(owner.len());
+    debug_assert!(hi <= end);
     let (s, mv) = (pairs.s.as_ptr(), mv.as_ptr());
     for j in lo..hi {
         let ahead = j + PREFETCH_AHEAD;
@@ -353,12 +354,12 @@ unsafe fn prefetch(p: *const f64) {
     _mm_prefetch::<_MM_HINT_T0>(p as *const i8);
 }
 
-/// How many particles ahead of the one gathered the particle gathers prefetch the shape
+/// How many particles ahead of the one gathered [`velocity_gradient`] prefetches the shape
 /// function gradients of (see [`prefetch_gradients`]).
 const PARTICLES_AHEAD: usize = 2;
 
 /// Prefetch the used part of particle `p`'s G stride (if there is such a particle). The
-/// particle gathers walk the particles in order, but each particle uses only its first
+/// velocity gradient walks the particles in order, but each particle uses only its first
 /// `count` of 27 slots (≈ 16 with uGIMP at 2 particles per cell), so the strides are read
 /// with gaps that the hardware prefetchers do not run ahead of (issue 14).
 #[inline(always)]
@@ -443,6 +444,7 @@ unsafe fn forces_sum<A: Add4>(sim: &Simulation<D3>, cols: &[[[f64; 4]; 4]], a: u
     let (lo, hi) = (pairs.start[a] as usize, pairs.start[a + 1] as usize);
     let (items, owner) = (&pairs.items, &sim.scratch.item_particle);
     let end = items.len().min(owner.len());
+    debug_assert!(hi <= end);
     let (g, cols) = (pairs.g.as_ptr() as *const f64, cols.as_ptr());
     for j in lo..hi {
         let ahead = j + PREFETCH_AHEAD;

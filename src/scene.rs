@@ -142,7 +142,11 @@ pub enum Lattice {
     /// The lower corner of the body's bounding box: the body's particles are the same
     /// relative to the body wherever it lies on the grid (a box whose sides are whole
     /// multiples of the particle spacing is tiled exactly, with no row on its edges), so
-    /// moving a scene on the grid moves only the grid under the material (issue 22).
+    /// translating a scene on the grid moves only the grid under the material (issue 22).
+    /// Bodies that touch have their own anchors, so the spacing across their interface is
+    /// not the lattice's unless their corners are whole spacings apart; a rotated scene is
+    /// anchored at its new bounding box. Not for `cramp fea`, whose mesh is the grid's
+    /// cells as the grid's lattice fills them.
     Body,
 }
 
@@ -151,12 +155,19 @@ impl Lattice {
         *self == Lattice::Grid
     }
 
-    /// The point the lattice of a body with bounding-box lower corner `body_min` is
-    /// anchored to, on a grid with origin `grid_origin` (per coordinate).
-    pub fn anchor(self, grid_origin: f64, body_min: f64) -> f64 {
+    /// Where the particles lie in 2D, for error messages that advise moving a crack off them.
+    pub fn particle_rows(self, n: usize) -> String {
         match self {
-            Lattice::Grid => grid_origin,
-            Lattice::Body => body_min,
+            Lattice::Grid => format!("they lie at the centres of the {n} × {n} sub-cells of each cell), e.g. onto a grid line"),
+            Lattice::Body => format!("with solver.lattice = \"body\" they lie at the centres of the {n} × {n} sub-cells of cell-sized blocks laid from each body's lower corner), e.g. a whole number of particle spacings from the body's lower edge"),
+        }
+    }
+
+    /// Where the particles lie in 3D (as [`Lattice::particle_rows`]).
+    pub fn particle_planes(self, n: usize) -> String {
+        match self {
+            Lattice::Grid => format!("they lie at the centres of the {n} × {n} × {n} sub-cells of each cell), e.g. onto a grid plane"),
+            Lattice::Body => format!("with solver.lattice = \"body\" they lie at the centres of the {n} × {n} × {n} sub-cells of cell-sized blocks laid from each body's lower corner), e.g. a whole number of particle spacings from the body's lower face"),
         }
     }
 }
@@ -1156,8 +1167,6 @@ impl Scene {
         Ok(sim)
     }
 
-    /// Cell ranges [ix0, ix1) × [iy0, iy1) that hold every particle position of every body:
-    /// the cells the bodies' bounding boxes touch, with a cell of margin for round-off.
     /// Body `k`'s bounding box lies inside the grid.
     fn check_body_in_grid(&self, k: usize, grid: &Grid) -> Result<(), SceneError> {
         let (lo, hi) = (grid.origin, grid.max_corner());
@@ -1168,6 +1177,8 @@ impl Scene {
         Ok(())
     }
 
+    /// Cell ranges [ix0, ix1) × [iy0, iy1) that hold every particle position of every body:
+    /// the cells the bodies' bounding boxes touch, with a cell of margin for round-off.
     fn body_cells(&self, grid: &Grid) -> [(usize, usize); 2] {
         let (mut lo, mut hi) = (Vector::new(f64::INFINITY, f64::INFINITY), Vector::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
         for b in &self.bodies {
@@ -1197,9 +1208,8 @@ impl Scene {
                     format!("cracks[{c}].points"),
                     format!(
                         "the crack passes through the particle at ({:e}, {:e}) of bodies[{}] (crack segment {seg}; within round-off), which is \
-                         then on neither side of it (or on one by round-off only); move the crack off the rows of particles (they lie at the centres of the {} × {} \
-                         sub-cells of each cell), e.g. onto a grid line",
-                        x.x, x.y, sim.particles.body[p], self.solver.particles_per_cell, self.solver.particles_per_cell
+                         then on neither side of it (or on one by round-off only); move the crack off the rows of particles ({}",
+                        x.x, x.y, sim.particles.body[p], self.solver.lattice.particle_rows(self.solver.particles_per_cell)
                     ),
                 ));
             }

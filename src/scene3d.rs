@@ -920,8 +920,9 @@ impl Scene3 {
                                 for cx in 0..n {
                                     let frac = |i: usize, c: usize| i as f64 + (c as f64 + 0.5) / n as f64;
                                     let x = Vector3::new(anchor.x + grid.h.x * frac(ix, cx), anchor.y + grid.h.y * frac(iy, cy), anchor.z + grid.h.z * frac(iz, cz));
-                                    let first = self.bodies.iter().enumerate().position(|(k, body)| body.shape.contains(&x, meshes[k].as_ref()));
                                     // On a body's own lattice, its points that no earlier body holds.
+                                    let last = only.map_or(self.bodies.len(), |o| o + 1);
+                                    let first = self.bodies[..last].iter().enumerate().position(|(k, body)| body.shape.contains(&x, meshes[k].as_ref()));
                                     let Some(k) = first.filter(|&k| only.is_none_or(|o| o == k)) else { continue };
                                     owner[k].push(x);
                                     filled += 1;
@@ -1019,9 +1020,8 @@ impl Scene3 {
                     format!("cracks[{c}].surface"),
                     format!(
                         "the crack passes through the particle at ({:e}, {:e}, {:e}) of bodies[{}] (crack triangle {t}; within round-off), which is then on \
-                         neither side of it (or on one by round-off only); move the crack off the planes of particles (they lie at the centres of the {n} × {n} × {n} \
-                         sub-cells of each cell), e.g. onto a grid plane",
-                        x.x, x.y, x.z, particles.body[p]
+                         neither side of it (or on one by round-off only); move the crack off the planes of particles ({}",
+                        x.x, x.y, x.z, particles.body[p], self.solver.lattice.particle_planes(n)
                     ),
                 ));
             }

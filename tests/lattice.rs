@@ -110,3 +110,29 @@ fn bad_lattice_is_named() {
     assert!(matches!(e, SceneError::Parse { .. }), "{msg}");
     assert!(msg.contains("bad.toml") && msg.contains("lattice") && msg.contains("cells"), "{msg}");
 }
+
+#[test]
+fn first_body_wins_on_the_bodies_lattices() {
+    // A 2 × 2 inclusion listed first inside a 6 × 4 plate, both on their own lattices: the
+    // inclusion keeps its 4 × 4 particles, the plate its own points outside the inclusion
+    // (96 − 16 = 80: the two lattices coincide here, both corners being whole spacings
+    // apart), and no two particles share a place.
+    let text = scene_2d(0.0, 0.0, "lattice = \"body\"").replace(
+        "[[bodies]]",
+        "[[bodies]]\nmaterial = \"m\"\nshape = { rectangle = { min = [2.0, 1.0], max = [4.0, 3.0] } }\n\n[[bodies]]",
+    );
+    let sim = Scene::from_toml(&text, "lattice.toml").unwrap().build().unwrap();
+    let body = |k: u16| (0..sim.particles.len()).filter(|&p| sim.particles.body[p] == k).count();
+    assert_eq!((body(0), body(1)), (16, 80));
+    let mut places: Vec<(i64, i64)> = (0..sim.particles.len()).map(|p| ((sim.particles.x[p].x * 1e6).round() as i64, (sim.particles.x[p].y * 1e6).round() as i64)).collect();
+    places.sort_unstable();
+    places.dedup();
+    assert_eq!(places.len(), 96);
+}
+
+#[test]
+fn the_fea_refuses_the_bodies_lattice() {
+    let scene = Scene::from_toml(&scene_2d(0.0, 0.0, "lattice = \"body\""), "lattice.toml").unwrap();
+    let e = cramp::fea::scene::SceneFea::from_scene(&scene).err().expect("refused");
+    assert!(e.to_string().contains("solver.lattice"), "{e}");
+}

@@ -540,6 +540,7 @@ fn root(parent: &mut [usize], mut a: usize) -> usize {
 impl SceneFea {
     /// Map a scene onto the FEA (see the module doc). Errors name the scene field.
     pub fn from_scene(scene: &Scene) -> Result<SceneFea> {
+        refuse_body_lattice(scene.solver.lattice)?;
         let sim = scene.build()?;
         let grid = Grid::from(&sim.grid);
         let p = &sim.particles;
@@ -861,4 +862,17 @@ impl SceneFea {
         }
         out
     }
+}
+
+/// `cramp fea` meshes the grid's cells as the grid's particle lattice fills them (a cell's
+/// particles tile it): refused for `solver.lattice = "body"`, whose particles lie off the
+/// cells' sub-cell centres, with an error naming the field.
+pub(crate) fn refuse_body_lattice(lattice: crate::scene::Lattice) -> Result<()> {
+    if lattice == crate::scene::Lattice::Body {
+        return Err(FeaError::SceneField {
+            field: "solver.lattice".into(),
+            message: "\"body\" anchors the particles to the bodies, off the grid cells that `cramp fea` meshes; use the default \"grid\" for the FEA of a scene".into(),
+        });
+    }
+    Ok(())
 }

@@ -166,6 +166,7 @@ impl SceneFea3 {
     /// (vertices, triangles; the layout of the MPM's crack surfaces), cut by
     /// [`GridMesh3::cut_planar_crack`] before supports and loads are mapped.
     pub fn with_cracks(scene: &Scene3, cracks: &[(Vec<Vector3>, Vec<[u32; 3]>)]) -> Result<SceneFea3> {
+        super::scene::refuse_body_lattice(scene.solver.lattice)?;
         let sim = scene.build()?;
         let grid = sim.grid.clone();
         let p = &sim.particles;
