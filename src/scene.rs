@@ -1030,44 +1030,33 @@ impl Scene {
         // body is not filled again (first body wins). Only the cells the bodies' boxes
         // touch are visited.
         let mut owner: Vec<Vec<Vector>> = vec![Vec::new(); self.bodies.len()];
-        match self.solver.lattice {
-            Lattice::Grid => {
-                let [(ix0, ix1), (iy0, iy1)] = self.body_cells(&grid);
-                for iy in iy0..iy1 {
-                    for ix in ix0..ix1 {
-                        for b in 0..n {
-                            for a in 0..n {
-                                let x = Vector::new(
-                                    grid.origin.x + grid.h.x * (ix as f64 + (a as f64 + 0.5) / n as f64),
-                                    grid.origin.y + grid.h.y * (iy as f64 + (b as f64 + 0.5) / n as f64),
-                                );
-                                if let Some(k) = self.bodies.iter().position(|body| body.shape.contains(&x)) {
-                                    owner[k].push(x);
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-            Lattice::Body => {
-                // Each body on its own lattice from its box's lower corner; a point inside an
-                // earlier body is that body's (first body wins, as on the grid's lattice).
-                for (k, body) in self.bodies.iter().enumerate() {
-                    let (bmin, bmax) = body.shape.bounds();
+        // The lattices to fill: the grid's, shared by every body (each point to the first body
+        // holding it), or each body's own from its box's lower corner (`solver.lattice`).
+        type Fill = (Option<usize>, Vector, [(usize, usize); 2]);
+        let lattices: Vec<Fill> = match self.solver.lattice {
+            Lattice::Grid => vec![(None, grid.origin, self.body_cells(&grid))],
+            Lattice::Body => (0..self.bodies.len())
+                .map(|k| {
                     self.check_body_in_grid(k, &grid)?;
-                    let cells = |c: usize| ((bmax[c] - bmin[c]) / grid.h[c]).ceil() as usize + 1;
-                    for iy in 0..cells(1) {
-                        for ix in 0..cells(0) {
-                            for b in 0..n {
-                                for a in 0..n {
-                                    let x = Vector::new(
-                                        bmin.x + grid.h.x * (ix as f64 + (a as f64 + 0.5) / n as f64),
-                                        bmin.y + grid.h.y * (iy as f64 + (b as f64 + 0.5) / n as f64),
-                                    );
-                                    if body.shape.contains(&x) && !self.bodies[..k].iter().any(|e| e.shape.contains(&x)) {
-                                        owner[k].push(x);
-                                    }
-                                }
+                    let (bmin, bmax) = self.bodies[k].shape.bounds();
+                    Ok((Some(k), bmin, [0, 1].map(|c| (0, ((bmax[c] - bmin[c]) / grid.h[c]).ceil() as usize + 1))))
+                })
+                .collect::<Result<_, SceneError>>()?,
+        };
+        for (only, anchor, [(ix0, ix1), (iy0, iy1)]) in lattices {
+            for iy in iy0..iy1 {
+                for ix in ix0..ix1 {
+                    for b in 0..n {
+                        for a in 0..n {
+                            let x = Vector::new(
+                                anchor.x + grid.h.x * (ix as f64 + (a as f64 + 0.5) / n as f64),
+                                anchor.y + grid.h.y * (iy as f64 + (b as f64 + 0.5) / n as f64),
+                            );
+                            // On a body's own lattice, its points that no earlier body holds.
+                            let last = only.map_or(self.bodies.len(), |o| o + 1);
+                            let first = self.bodies[..last].iter().position(|body| body.shape.contains(&x));
+                            if let Some(k) = first.filter(|&k| only.is_none_or(|o| o == k)) {
+                                owner[k].push(x);
                             }
                         }
                     }
