@@ -126,6 +126,21 @@ impl<S: Dimension> Simulation<S> {
                     // Only the approach beyond what closes the gap is removed.
                     (dv - n * (gap.max(0.0) / dt), gap <= 0.0)
                 }
+                ContactDetection::Displacement => {
+                    // Separating: no contact.
+                    if dv.dot(&n) <= 0.0 {
+                        continue;
+                    }
+                    let (ua, ub) = self.field_displacements(a_idx, a, b);
+                    let mut open = (ub - ua).dot(&n);
+                    if back_compute_forces {
+                        open -= dt * dv.dot(&n);
+                    }
+                    if open >= 0.0 {
+                        continue;
+                    }
+                    (dv, false)
+                }
             };
             let Some(dp) = contact_impulse(crack.law(), dv, n, mred, forced) else {
                 continue;
@@ -148,6 +163,34 @@ impl<S: Dimension> Simulation<S> {
         }
         self.nodes = nodes;
         Ok(())
+    }
+
+    /// The mass-weighted mean particle displacement of fields `a` and `b` at active node
+    /// `a_idx` (NairnMPM's displacement detection): exact sums, so the same bits for any
+    /// particle order.
+    fn field_displacements(&self, a_idx: usize, a: usize, b: usize) -> (S::Vector, S::Vector) {
+        use crate::exact::{Accumulator, ExactSums};
+        let (p, pairs) = (&self.particles, &self.pairs);
+        let mut acc: [ExactSums<4>; 2] = Default::default();
+        for &item in pairs.of_active(a_idx) {
+            let item = item as usize;
+            let f = pairs.field[item] as usize;
+            let k = if f == a { 0 } else if f == b { 1 } else { continue };
+            let pp = item / S::MAX_NODES;
+            let w = p.mass[pp] * pairs.s[item] * pairs.frac.get(item).copied().unwrap_or(1.0);
+            let u = p.x[pp] - p.x0[pp];
+            let mut lanes = [0.0; 4];
+            lanes[0] = w;
+            for c in 0..S::DIM {
+                lanes[c + 1] = w * u[c];
+            }
+            acc[k].add(lanes);
+        }
+        let mean = |acc: &ExactSums<4>| {
+            let l = acc.certified().expect("exact sums");
+            S::Vector::from_fn(|c| if l[0] > 0.0 { l[c + 1] / l[0] } else { 0.0 })
+        };
+        (mean(&acc[0]), mean(&acc[1]))
     }
 
     /// The factor that makes the nodal volume of eq. 27 at a node on a boundary plane

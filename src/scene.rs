@@ -371,7 +371,8 @@ pub struct CrackSpec {
     #[serde(default = "default_vcontact")]
     pub v_contact: f64,
     /// How contact is detected: "opening" (default; the tracked crack surfaces' normal
-    /// opening) or "volume" (Nairn 2003 eqs. 8–12, with v_sep and v_contact).
+    /// opening), "volume" (Nairn 2003 eqs. 8–12, with v_sep and v_contact) or
+    /// "displacement" (NairnMPM's: the two fields' mean particle displacements).
     #[serde(default)]
     pub detection: crate::crack::ContactDetection,
     /// J-integral and stress intensity factors at this crack's tips (Guo & Nairn 2004 §3),

@@ -53,6 +53,15 @@ pub enum ContactDetection {
     /// interpolated at the point of the crack nearest the node.
     #[default]
     Opening,
+    /// NairnMPM's default (its `CrackSurfaceContact::GetDeltaMomentum` with
+    /// `MaterialSeparation` by displacements): the normal difference of the two fields'
+    /// mass-weighted mean particle displacements at the node, (ū_b − ū_a)·n̂, less
+    /// Δt (v_a − v_b)·n̂ on the momenta after the forces; contact when it is negative and
+    /// the fields approach, and then the whole normal approach is removed. A comparison
+    /// option (issue 20 item 3, case `pmma_tpb_choices`): it does not see the faces, and
+    /// the displacement difference at a node whose fields were one material before a
+    /// growing crack reached it starts from the strain across the node, not from zero.
+    Displacement,
 }
 
 /// How particle–node pairs near a crack are treated in Task 1.

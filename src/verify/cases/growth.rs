@@ -264,6 +264,7 @@ pub const TPB_CHOICES: &[TpbChoice] = &[
     // speed 0 (CalcJKTask). The volume detection of Nairn 2003 creates energy on the
     // growing crack (docs/verification.md, growth_strip) and arrests it at 68 mm.
     TpbChoice { label: "detection = volume (Nairn 2003 eqs. 8–12)", overrides: &[("cracks.0.detection", "\"volume\"")], held: false, nairnmpm: false, plotted: true },
+    TpbChoice { label: "detection = displacement (NairnMPM)", overrides: &[("cracks.0.detection", "\"displacement\"")], held: false, nairnmpm: false, plotted: true },
 ];
 
 /// Energy created over a run: the largest rise of the total energy (kinetic + strain +
