@@ -127,8 +127,10 @@ impl<S: Dimension> Simulation<S> {
                     (dv - n * (gap.max(0.0) / dt), gap <= 0.0)
                 }
                 ContactDetection::Displacement => {
-                    // Separating: no contact.
-                    if dv.dot(&n) <= 0.0 {
+                    // Separating: no contact; nor (as NairnMPM) where one field holds
+                    // almost all the node's mass.
+                    let ratio = ma / (ma + mb);
+                    if dv.dot(&n) <= 0.0 || !(1e-6..=0.999999).contains(&ratio) {
                         continue;
                     }
                     let (ua, ub) = self.field_displacements(a_idx, a, b);
@@ -166,31 +168,41 @@ impl<S: Dimension> Simulation<S> {
     }
 
     /// The mass-weighted mean particle displacement of fields `a` and `b` at active node
-    /// `a_idx` (NairnMPM's displacement detection): exact sums, so the same bits for any
-    /// particle order.
+    /// `a_idx` (NairnMPM's displacement detection), each pair counted in its fields as the
+    /// mass gather counts it (a share w < 1 of a crack-tip zone: w in its field, 1 − w in
+    /// field 0). Exact sums, so the same bits for any particle order.
     fn field_displacements(&self, a_idx: usize, a: usize, b: usize) -> (S::Vector, S::Vector) {
         use crate::exact::{Accumulator, ExactSums};
         let (p, pairs) = (&self.particles, &self.pairs);
-        let mut acc: [ExactSums<4>; 2] = Default::default();
+        let mut acc: [ExactSums<4>; crate::grid::MAX_FIELDS] = Default::default();
         for &item in pairs.of_active(a_idx) {
             let item = item as usize;
             let f = pairs.field[item] as usize;
-            let k = if f == a { 0 } else if f == b { 1 } else { continue };
             let pp = item / S::MAX_NODES;
-            let w = p.mass[pp] * pairs.s[item] * pairs.frac.get(item).copied().unwrap_or(1.0);
             let u = p.x[pp] - p.x0[pp];
-            let mut lanes = [0.0; 4];
-            lanes[0] = w;
-            for c in 0..S::DIM {
-                lanes[c + 1] = w * u[c];
+            let m = p.mass[pp] * pairs.s[item];
+            let lanes = |share: f64| {
+                let mut l = [0.0; 4];
+                l[0] = m * share;
+                for c in 0..S::DIM {
+                    l[c + 1] = m * share * u[c];
+                }
+                l
+            };
+            let w = pairs.frac[item];
+            if w == 1.0 {
+                acc[f].add(lanes(1.0));
+            } else {
+                acc[f].add(lanes(w));
+                acc[0].add(lanes(1.0 - w));
             }
-            acc[k].add(lanes);
         }
         let mean = |acc: &ExactSums<4>| {
             let l = acc.certified().expect("exact sums");
-            S::Vector::from_fn(|c| if l[0] > 0.0 { l[c + 1] / l[0] } else { 0.0 })
+            debug_assert!(l[0] > 0.0, "a present field has mass");
+            S::Vector::from_fn(|c| l[c + 1] / l[0])
         };
-        (mean(&acc[0]), mean(&acc[1]))
+        (mean(&acc[a]), mean(&acc[b]))
     }
 
     /// The factor that makes the nodal volume of eq. 27 at a node on a boundary plane

@@ -219,7 +219,7 @@ pub struct CrackSpec3 {
     pub v_sep: f64,
     #[serde(default = "crate::scene::default_vcontact")]
     pub v_contact: f64,
-    /// How contact is detected, as in 2D: "opening" (default) or "volume".
+    /// How contact is detected, as in 2D: "opening" (default), "volume" or "displacement".
     #[serde(default)]
     pub detection: crate::crack::ContactDetection,
     /// J, K_I, K_II, K_III at the crack's front nodes ([`crate::fracture::front3`]),

@@ -289,7 +289,7 @@ fn bad_fracture_tables_and_unknown_detection_are_refused_in_3d() {
     expect_invalid(&fr("nodes = { box = { min = [0.0, 0.0, 0.0], max = [1.0, -1.0, 1.0] } }"), None, "cracks[0].fracture.nodes.box", &["exceeds"]);
     // GOOD_CRACK reaches past the body on every side: it has no front in the material.
     expect_invalid(&fr(""), None, "cracks[0].fracture.nodes", &["no front node"]);
-    // Both detections exist in 3D ("opening", the default, and "volume"); others do not.
+    // The three detections exist in 3D ("opening", the default, "volume", "displacement"); others do not.
     expect_message(&with_crack(&format!("{GOOD_CRACK}\ndetection = \"gap\"")), &["gap", "volume", "opening"]);
     // The gradual release of new segments is 2D only.
     let tough = fr("growth = { release = {} }").replacen("rho = 1.0", "rho = 1.0\ntoughness = { criterion = \"max_hoop_stress\", kic = 1.0 }", 1);

@@ -61,6 +61,10 @@ pub enum ContactDetection {
     /// option (issue 20 item 3, case `pmma_tpb_choices`): it does not see the faces, and
     /// the displacement difference at a node whose fields were one material before a
     /// growing crack reached it starts from the strain across the node, not from zero.
+    /// Nodes where one field holds all but 10⁻⁶ of the mass are skipped, as NairnMPM does.
+    /// After the particles have moved (Task 6c) their displacements are already those at
+    /// the step's end, where NairnMPM adds Δt Δv to the start-of-step ones: the same to
+    /// first order.
     Displacement,
 }
 

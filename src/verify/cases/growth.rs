@@ -258,11 +258,10 @@ pub const TPB_CHOICES: &[TpbChoice] = &[
     TpbChoice { label: "contact = stick", overrides: &[("cracks.0.contact", "\"stick\"")], held: false, nairnmpm: false, plotted: false },
     TpbChoice { label: "one-term J (area_term = false)", overrides: &[("cracks.0.fracture.area_term", "false")], held: false, nairnmpm: false, plotted: true },
     TpbChoice { label: "contact = none", overrides: &[("cracks.0.contact", "\"none\"")], held: false, nairnmpm: false, plotted: true },
-    // The default has NairnMPM's settings: its crack contact is detected from the
-    // separation of the two fields (CrackSurfaceContact::MaterialSeparation), as cramp's
-    // default opening detection, not from the nodal volume, and its K partition takes crack
-    // speed 0 (CalcJKTask). The volume detection of Nairn 2003 creates energy on the
-    // growing crack (docs/verification.md, growth_strip) and arrests it at 68 mm.
+    // The default has NairnMPM's K partition (crack speed 0, its CalcJKTask); NairnMPM's
+    // contact detection is the `displacement` variant below. The volume detection of
+    // Nairn 2003 creates energy on the growing crack (docs/verification.md, growth_strip)
+    // and arrests it at 68 mm.
     TpbChoice { label: "detection = volume (Nairn 2003 eqs. 8–12)", overrides: &[("cracks.0.detection", "\"volume\"")], held: false, nairnmpm: false, plotted: true },
     // NairnMPM's contact detection (CrackSurfaceContact::MaterialSeparation by displacements):
     // with it this variant has NairnMPM's settings throughout, and is held to its a(t) too.
