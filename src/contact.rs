@@ -181,21 +181,12 @@ impl<S: Dimension> Simulation<S> {
             let pp = item / S::MAX_NODES;
             let u = p.x[pp] - p.x0[pp];
             let m = p.mass[pp] * pairs.s[item];
-            let lanes = |share: f64| {
-                let mut l = [0.0; 4];
-                l[0] = m * share;
-                for c in 0..S::DIM {
-                    l[c + 1] = m * share * u[c];
-                }
-                l
-            };
-            let w = pairs.frac[item];
-            if w == 1.0 {
-                acc[f].add(lanes(1.0));
-            } else {
-                acc[f].add(lanes(w));
-                acc[0].add(lanes(1.0 - w));
+            let mut lanes = [0.0; 4];
+            lanes[0] = m;
+            for c in 0..S::DIM {
+                lanes[c + 1] = m * u[c];
             }
+            crate::step::add_shared(&mut acc, f, pairs.frac[item], lanes, S::DIM + 1);
         }
         let mean = |acc: &ExactSums<4>| {
             let l = acc.certified().expect("exact sums");

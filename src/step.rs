@@ -1141,7 +1141,7 @@ impl<S: Dimension> Simulation<S> {
 /// crack-tip zone with share `w` < 1 (crack::tip_zone), w of them to field `f` and 1 − w
 /// to field 0.
 #[inline(always)]
-fn add_shared<L: crate::exact::Lanes, A: crate::exact::LaneSum<L>>(acc: &mut [A; MAX_FIELDS], f: usize, w: f64, lanes: L, n: usize) {
+pub(crate) fn add_shared<L: crate::exact::Lanes, A: crate::exact::LaneSum<L>>(acc: &mut [A; MAX_FIELDS], f: usize, w: f64, lanes: L, n: usize) {
     if w == 1.0 {
         acc[f].add_lanes(lanes);
         return;
