@@ -1,6 +1,8 @@
 //! Experiment (issue 22 item 1): SENT K_I/K_Tada(a) − 1 with the tip at a = 6 + f·h and
 //! the crack line at y = 0 with the grid shifted by dy·h in y, ppc particles per cell.
-//! `cargo run --release --example tip_scan -- h ppc dy [f...]`
+//! `cargo run --release --example tip_scan -- h ppc dy [f...]`; also prints J/J_Tada on the
+//! 2×2 and 3×3 contours, the settled strain energy U (for a static crack without contact a
+//! function of which pairs are cut only) and T/U (whether the run reached its static state).
 use cramp::fracture::jintegral::{CodMethod, TipEnd};
 use cramp::verify::cases::plates::PlateKind;
 
@@ -22,10 +24,16 @@ fn main() -> anyhow::Result<()> {
         let mut sim = scene.build()?;
         sim.run_until(scene.solver.end_time, |_| {})?;
         let mut row = Vec::new();
+        let mut jr = Vec::new();
+        // E′ of the plate's material (E = 1000 MPa, ν = 0.3, plane strain).
+        let e_prime = 1000.0 / (1.0 - 0.3 * 0.3);
         for n in [2, 3] {
-            let k = sim.tip_fracture(0, TipEnd::End, n, false, CodMethod::NextToTip, 0.0)?.k1;
-            row.push(k / PlateKind::Sent.k_ref(a) - 1.0);
+            let r = sim.tip_fracture(0, TipEnd::End, n, false, CodMethod::NextToTip, 0.0)?;
+            row.push(r.k1 / PlateKind::Sent.k_ref(a) - 1.0);
+            jr.push(r.j1 * e_prime / PlateKind::Sent.k_ref(a).powi(2));
         }
+        let e = sim.energies();
+        println!("h {h} ppc {ppc} dy {dy} f {f:.3}: J/J_Tada 2x2 {:.4}  3x3 {:.4}  U {:.9e}  T/U {:.1e}", jr[0], jr[1], e.strain, e.kinetic / e.strain);
         errs.push(row[0]);
         println!("h {h} ppc {ppc} dy {dy} f {f:.3}: K err 2x2 {:+.2}%  3x3 {:+.2}%", 100.0 * row[0], 100.0 * row[1]);
     }
