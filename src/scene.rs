@@ -1253,7 +1253,7 @@ impl Scene {
         }
         if self.solver.tip_zone > 0.0 && self.cracks.iter().any(|c| c.fracture.is_some()) {
             out.push(
-                "solver.tip_zone is experimental: J near a zone is verified (tests/tip_zone.rs), the K_I/K_II split by the crack opening is not — the surfaces move with fields that hold shares of particles (case tip_translation: the DCB with its crack 0.1 cell off a node row gives J −4 % but K_I −57 %)"
+                "solver.tip_zone is experimental: J near a zone is verified (tests/tip_zone.rs), the K_I/K_II split by the crack opening is not — the surfaces move with fields that hold shares of particles (case tip_translation: the DCB with its crack 0.1 cell off a node row gives J −4 % but K_I −57 %); a field holding only a share of one particle cannot balance and pulls that particle, so at some tip positions a static run settles ~60 × slower than its damping (SENT, tip 0.55 of its cell: J +4 % from 0.6 to 6 ms; docs/scene.md)"
                     .to_string(),
             );
         }
