@@ -247,9 +247,15 @@ pub struct Dcb3Solve {
 /// Solve a 3D DCB scene (a straight front along z on one node plane x) with hex8 and
 /// read J at its front nodes.
 pub fn dcb3_solve(file: &SceneFile, h: f64) -> anyhow::Result<Dcb3Solve> {
+    dcb3_solve_domains(file, [(4.0 / h).round() as usize, (8.0 / h).round() as usize])
+}
+
+/// [`dcb3_solve`] with J read from domains of `cells[0]` and `cells[1]` cells (at most
+/// 8 each, the FEA's largest).
+pub fn dcb3_solve_domains(file: &SceneFile, cells: [usize; 2]) -> anyhow::Result<Dcb3Solve> {
     let fea = SceneFea3::from_scene(&file.load3()?)?;
     let an = fea.analyse()?;
-    let (c1, c2) = ((4.0 / h).round() as usize, (8.0 / h).round() as usize);
+    let [c1, c2] = cells;
     let front_x = an.front.first().context("no front node")?.position[0];
     let mut front = Vec::new();
     for f in &an.front {

@@ -29,7 +29,7 @@
 
 use crate::fracture::front3::{DomainShape, FrontRequest, FrontResult};
 use crate::report::plot::{PlotSpec, Series};
-use crate::verify::cases::fea3d::{dcb3_solve, Dcb3Solve, DCB3_B, DCB3_P};
+use crate::verify::cases::fea3d::{dcb3_solve, dcb3_solve_domains, Dcb3Solve, DCB3_B, DCB3_P};
 use crate::verify::cases::fracture::{ARM, CHI};
 use crate::verify::scene_file::SceneFile;
 use crate::verify::{CaseOutput, Plot, Variant};
@@ -88,6 +88,58 @@ pub fn scene_fine() -> SceneFile {
         .set("loads.1.particles", "{ box = { min = [0.0, 0.0, 0.0], max = [1.0, 12.0, 12.0] } }")
         .set("cracks.0.surface.polygon.points", "[[-2.0, 12.0, -2.0], [-2.0, 12.0, 14.0], [48.5, 12.0, 14.0], [48.5, 12.0, -2.0]]")
         .set("cracks.0.edge", "0.5")
+}
+
+/// The resolved pair (`fine_*` checks): the MPM on 1 mm cells, its crack end mid-cell at
+/// x = [`FINE_END`] as the 2 mm scene's x = 49 is, loaded on the two particle layers x ≤ 1
+/// (the load line x = 0.5 of the 2 mm scene), J by the same domain in mm as the 2 mm
+/// checks (q = 1 within 6 mm, 0 from 8 mm; ψ of DOMAIN_ALONG).
+pub const FINE_END: f64 = 49.5;
+pub fn scene_mpm_fine() -> SceneFile {
+    scene(0)
+        .set("grid.cell", "[1.0, 1.0, 1.0]")
+        .set("loads.0.particles", "{ box = { min = [0.0, 12.0, 0.0], max = [1.0, 24.0, 12.0] } }")
+        .set("loads.1.particles", "{ box = { min = [0.0, 0.0, 0.0], max = [1.0, 12.0, 12.0] } }")
+        .set("cracks.0.surface.polygon.points", "[[-2.0, 12.0, -1.0], [-2.0, 12.0, 13.0], [49.5, 12.0, 13.0], [49.5, 12.0, -1.0]]")
+}
+
+/// The hex8 FEA of the same file on 0.5 mm cells with its front at x = [`FINE_END`] (the
+/// crack meshed to the first node plane beyond x = 49.25); J from its 4 mm domain.
+pub fn scene_fea_half() -> SceneFile {
+    scene_fine()
+        .set("grid.cell", "[0.5, 0.5, 0.5]")
+        .set("cracks.0.surface.polygon.points", "[[-2.0, 12.0, -2.0], [-2.0, 12.0, 14.0], [49.25, 12.0, 14.0], [49.25, 12.0, -2.0]]")
+        .set("cracks.0.edge", "0.25")
+}
+
+/// What the resolved pair measured.
+#[derive(Clone, Debug)]
+pub struct DcbFine {
+    /// MPM front by the domain integral.
+    pub front: Vec<FrontResult>,
+    pub fea: Dcb3Solve,
+    pub particles: usize,
+    pub steps: u64,
+    pub mpm_seconds: f64,
+    pub fea_seconds: f64,
+    pub kinetic_ratio: f64,
+}
+
+pub fn dcb_fine() -> anyhow::Result<DcbFine> {
+    let s = scene_mpm_fine().load3()?;
+    let t = Instant::now();
+    let mut sim = s.build()?;
+    let req = s.front_requests(&sim.cracks)?.remove(0).context("the DCB asks for J")?;
+    sim.run_until(s.solver.end_time, |_| {})?;
+    let front = sim.front_fracture(0, &FrontRequest { domain: Some(DomainShape { inner: (DOMAIN_RADII[1] - 1.0) * H, outer: DOMAIN_RADII[1] * H, along: DOMAIN_ALONG }), ..req.clone() });
+    let mpm_seconds = t.elapsed().as_secs_f64();
+    let en = sim.energies();
+    let t = Instant::now();
+    // The FEA's largest domain, 8 cells: 4 mm here (on the 1 mm mesh its J moves by at most
+    // 0.3 % between the 4 and 8 mm domains at any front node, measured with `cramp fea`).
+    let fea = dcb3_solve_domains(&scene_fea_half(), [8, 8])?;
+    anyhow::ensure!(fea.front_x == FINE_END, "0.5 mm FEA front at x = {}", fea.front_x);
+    Ok(DcbFine { front, fea, particles: sim.particles.len(), steps: sim.step_count, mpm_seconds, fea_seconds: t.elapsed().as_secs_f64(), kinetic_ratio: en.kinetic / en.strain })
 }
 
 /// Corrected beam theory for crack length a (from the load line) and modulus e.
@@ -249,6 +301,36 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
         100.0 * (dom_mid / fea_mid - 1.0),
         100.0 * (dom_w / fea_w - 1.0),
         dom_rows.iter().map(|x| format!("{}: {:+.2} %", x.0, 100.0 * (x.1 / x.2 - 1.0))).collect::<Vec<_>>().join(", "),
+    ));
+    // The resolved pair: MPM on 1 mm cells against the 0.5 mm FEA, both fronts at x = 49.5.
+    let fine = dcb_fine()?;
+    let half_pts: Vec<(f64, f64)> = fine.fea.front.iter().map(|f| (f.0, f.2)).collect();
+    let fine_rows: Vec<(f64, f64, f64)> = fine.front.iter().filter_map(|f| Some((f.x.z, f.j1, psi_average(&half_pts, (f.x.z * 2.0).round() / 2.0)?))).collect();
+    anyhow::ensure!(fine_rows.len() == 13, "{} front nodes of the 1 mm MPM matched", fine_rows.len());
+    let fine_worst = fine_rows.iter().map(|x| (x.1 / x.2 - 1.0).abs()).fold(0.0, f64::max);
+    out.measure("fine_domain_profile_fea", "MPM 1 mm, every front node, faces included, vs the 0.5 mm FEA; both fronts at x = 49.5", fine_worst, 0.0);
+    let fine_mpm_w = width_integral(&fine_rows.iter().map(|x| (x.0, x.1)).collect::<Vec<_>>());
+    let fine_fea_w = width_integral(&fine_rows.iter().map(|x| (x.0, x.2)).collect::<Vec<_>>());
+    out.measure("fine_domain_width_integral_fea", "MPM 1 mm vs the 0.5 mm FEA, trapezoid over the 13 front nodes", fine_mpm_w, fine_fea_w);
+    let half_at49 = |z: f64| psi_average(&r.fea_fine.front.iter().map(|f| (f.0, f.2)).collect::<Vec<_>>(), z);
+    out.note(format!(
+        "Resolved pair (fine_* checks): the MPM on 1 mm cells (crack end x = {FINE_END}, mid-cell; {} particles × {} steps in {:.0} s, kinetic \
+         energy {:.1e} of the strain energy at the end) by the domain integral with q and ψ in mm as above, against the hex8 FEA on 0.5 mm \
+         cells with its front at x = {FINE_END} ({} equations, {:.0} s), ψ-averaged: mid-width {:.5e} / {:.5e} ({:+.2} %), width integral \
+         {fine_mpm_w:.5e} / {fine_fea_w:.5e} N ({:+.2} %). Profile (z: MPM 1 mm / FEA 0.5 mm − 1): {}. For scale, the 2 mm MPM's near-face \
+         excess over the 1 mm FEA at x = 49 (domain_profile_fea) is at z = 1: {:+.2} %.",
+        fine.particles,
+        fine.steps,
+        fine.mpm_seconds,
+        fine.kinetic_ratio,
+        fine.fea.equations,
+        fine.fea_seconds,
+        fine_rows[6].1,
+        fine_rows[6].2,
+        100.0 * (fine_rows[6].1 / fine_rows[6].2 - 1.0),
+        100.0 * (fine_mpm_w / fine_fea_w - 1.0),
+        fine_rows.iter().map(|x| format!("{}: {:+.2} %", x.0.round(), 100.0 * (x.1 / x.2 - 1.0))).collect::<Vec<_>>().join(", "),
+        100.0 * (dom_at(1.0).unwrap_or(f64::NAN) / half_at49(1.0).unwrap_or(f64::NAN) - 1.0),
     ));
     let asym = r.front.iter().map(|f| {
         let twin = r.mpm_at(DCB3_B - f.x.z).map_or(f64::NAN, |g| g.j1);
