@@ -115,8 +115,14 @@ pub fn scene_fea_half() -> SceneFile {
 /// What the resolved pair measured.
 #[derive(Clone, Debug)]
 pub struct DcbFine {
-    /// MPM front by the domain integral.
+    /// MPM front by the domain integral, q's outer radius DOMAIN_RADII[1] cells of 2 mm.
     pub front: Vec<FrontResult>,
+    /// MPM front by the domain integral with q's outer radius each of DOMAIN_RADII cells of
+    /// 2 mm (the 2 mm run's domains in mm).
+    pub radii: Vec<Vec<FrontResult>>,
+    /// MPM front by the scene's own circle (its radius in 1 mm cells): the 2 mm run's
+    /// `front` refined.
+    pub line: Vec<FrontResult>,
     pub fea: Dcb3Solve,
     pub particles: usize,
     pub steps: u64,
@@ -131,7 +137,9 @@ pub fn dcb_fine() -> anyhow::Result<DcbFine> {
     let mut sim = s.build()?;
     let req = s.front_requests(&sim.cracks)?.remove(0).context("the DCB asks for J")?;
     sim.run_until(s.solver.end_time, |_| {})?;
-    let front = sim.front_fracture(0, &FrontRequest { domain: Some(DomainShape { inner: (DOMAIN_RADII[1] - 1.0) * H, outer: DOMAIN_RADII[1] * H, along: DOMAIN_ALONG }), ..req.clone() });
+    let radii: Vec<Vec<FrontResult>> = DOMAIN_RADII.iter().map(|&rc| sim.front_fracture(0, &FrontRequest { domain: Some(DomainShape { inner: (rc - 1.0) * H, outer: rc * H, along: DOMAIN_ALONG }), ..req.clone() })).collect();
+    let front = radii[1].clone();
+    let line = sim.front_fracture(0, &req);
     let mpm_seconds = t.elapsed().as_secs_f64();
     let en = sim.energies();
     let t = Instant::now();
@@ -139,7 +147,7 @@ pub fn dcb_fine() -> anyhow::Result<DcbFine> {
     // 0.3 % between the 4 and 8 mm domains at any front node, measured with `cramp fea`).
     let fea = dcb3_solve_domains(&scene_fea_half(), [8, 8])?;
     anyhow::ensure!(fea.front_x == FINE_END, "0.5 mm FEA front at x = {}", fea.front_x);
-    Ok(DcbFine { front, fea, particles: sim.particles.len(), steps: sim.step_count, mpm_seconds, fea_seconds: t.elapsed().as_secs_f64(), kinetic_ratio: en.kinetic / en.strain })
+    Ok(DcbFine { front, radii, line, fea, particles: sim.particles.len(), steps: sim.step_count, mpm_seconds, fea_seconds: t.elapsed().as_secs_f64(), kinetic_ratio: en.kinetic / en.strain })
 }
 
 /// Corrected beam theory for crack length a (from the load line) and modulus e.
@@ -260,11 +268,9 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
         }
     }
     let interior = rows.iter().filter(|x| x.0 > 0.0 && x.0 < DCB3_B).map(|x| (x.1 / x.2 - 1.0).abs()).fold(0.0, f64::max);
-    out.measure("profile_fea", "interior front nodes z = 2 … 10", interior, 0.0);
     let mpm_pts: Vec<(f64, f64)> = r.front.iter().map(|f| (f.x.z, f.j1)).collect();
     let fea_pts: Vec<(f64, f64)> = r.fea50.front.iter().map(|f| (f.0, r.fea_at_tip(f.0).unwrap_or(f64::NAN))).collect();
     let (mpm_w, fea_w) = (width_integral(&mpm_pts), width_integral(&fea_pts));
-    out.measure("width_integral_fea", "trapezoid over the front nodes, FEA at x = 49", mpm_w, fea_w);
     out.measure("settled", &format!("mid-width J at the end vs {SETTLE_WINDOW} ms before"), mid.j1, r.j_mid_before);
     // The equivalent domain integral (crate::fracture::front3, "Domain integral") against
     // the 1 mm FEA with its front at x = 49, every front node including the faces.
@@ -277,14 +283,12 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     out.measure("domain_mid_width_fea", &format!("domain integral, q to {} cells, vs the 1 mm FEA at x = 49", DOMAIN_RADII[1]), dom_mid, fine_mid);
     let dom_rows: Vec<(f64, f64, f64)> = r.fea_fine.front.iter().filter_map(|&(z, _, _)| Some((z, dom_at(z)?, fine_at(z)?))).collect();
     let dom_worst = dom_rows.iter().map(|x| (x.1 / x.2 - 1.0).abs()).fold(0.0, f64::max);
-    out.measure("domain_profile_fea", "every front node z = 0, 1, …, 12, faces included, vs the 1 mm FEA", dom_worst, 0.0);
     let dom_pts: Vec<(f64, f64)> = dom.iter().map(|f| (f.x.z, f.j1)).collect();
     let fine_avg: Vec<(f64, f64)> = dom_rows.iter().map(|x| (x.0, x.2)).collect();
     let (dom_w, fine_w) = (width_integral(&dom_pts), width_integral(&fine_avg));
     out.measure("domain_width_integral_fea", "trapezoid over the 13 front nodes, vs the 1 mm FEA", dom_w, fine_w);
     let mids: Vec<f64> = r.front_domain.iter().map(|f| near(f, 0.5 * DCB3_B).map_or(f64::NAN, |f| f.j1)).collect();
     let spread = (mids.iter().copied().fold(f64::NEG_INFINITY, f64::max) - mids.iter().copied().fold(f64::INFINITY, f64::min)) / dom_mid;
-    out.measure("domain_path", &format!("mid-width J over q radii {DOMAIN_RADII:?} cells"), spread, 0.0);
     out.note(format!(
         "Equivalent domain integral over the particles (q = 1 within r − 1 cells of the front line, 0 from r; ψ = cos²(πs/2L), L = {DOMAIN_ALONG} mm \
          along the front): mid-width J₁ at r = {DOMAIN_RADII:?} cells: {}; width integral {dom_w:.5e} N. FEA on 1 mm cells, front at \
@@ -312,13 +316,48 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let fine_mpm_w = width_integral(&fine_rows.iter().map(|x| (x.0, x.1)).collect::<Vec<_>>());
     let fine_fea_w = width_integral(&fine_rows.iter().map(|x| (x.0, x.2)).collect::<Vec<_>>());
     out.measure("fine_domain_width_integral_fea", "MPM 1 mm vs the 0.5 mm FEA, trapezoid over the 13 front nodes", fine_mpm_w, fine_fea_w);
+    // The 2 mm run's circle and domain-path measurements on the 1 mm MPM, against the 0.5 mm
+    // FEA's own J at the same front nodes (not ψ-averaged, as the 2 mm circle's FEA).
+    let half_raw = |z: f64| fine.fea.front.iter().find(|f| (f.0 - z).abs() < 0.1).map(|f| f.2);
+    let line_rows: Vec<(f64, f64, f64)> = fine.line.iter().filter_map(|f| Some((f.x.z, f.j1, half_raw(f.x.z)?))).collect();
+    anyhow::ensure!(line_rows.len() == 13, "{} circle front nodes of the 1 mm MPM matched", line_rows.len());
+    let fine_line_interior = line_rows.iter().filter(|x| x.0.round() > 0.0 && x.0.round() < DCB3_B).map(|x| (x.1 / x.2 - 1.0).abs()).fold(0.0, f64::max);
+    let fine_line_w = width_integral(&line_rows.iter().map(|x| (x.0, x.1)).collect::<Vec<_>>());
+    let fine_raw_w = width_integral(&line_rows.iter().map(|x| (x.0, x.2)).collect::<Vec<_>>());
+    let fine_mids: Vec<f64> = fine.radii.iter().map(|f| near(f, 0.5 * DCB3_B).map_or(f64::NAN, |f| f.j1)).collect();
+    let fine_spread = (fine_mids.iter().copied().fold(f64::NEG_INFINITY, f64::max) - fine_mids.iter().copied().fold(f64::INFINITY, f64::min)) / fine_mids[1];
+    out.note(format!(
+        "The 1 mm MPM by its circle (the 2 mm run's contour in cells) against the 0.5 mm FEA's J at the same nodes: interior nodes z = 1 … 11 \
+         worst {:.2} % (2 mm against its FEA: {:.2} %); width integral {fine_line_w:.5e} / {fine_raw_w:.5e} N ({:+.2} %; 2 mm: {:+.2} %; the 0.5 mm FEA's own ∫J dz over its {} nodes {:.5e} N). \
+         Profile (z: circle J₁ / FEA − 1): {}. Mid-width domain J₁ over q radii {DOMAIN_RADII:?} × 2 mm: {} (spread {:.2} %; 2 mm: {:.2} %).",
+        100.0 * fine_line_interior,
+        100.0 * interior,
+        100.0 * (fine_line_w / fine_raw_w - 1.0),
+        100.0 * (mpm_w / fea_w - 1.0),
+        fine.fea.front.len(),
+        width_integral(&fine.fea.front.iter().map(|f| (f.0, f.2)).collect::<Vec<_>>()),
+        line_rows.iter().map(|x| format!("{}: {:+.2} %", x.0.round(), 100.0 * (x.1 / x.2 - 1.0))).collect::<Vec<_>>().join(", "),
+        fine_mids.iter().map(|j| format!("{j:.5e}")).collect::<Vec<_>>().join(", "),
+        100.0 * fine_spread,
+        100.0 * spread,
+    ));
+    out.measure("fine_profile_fea", "MPM 1 mm by its circle, interior front nodes z = 1 … 11, vs the 0.5 mm FEA; both fronts at x = 49.5", fine_line_interior, 0.0);
+    out.measure("fine_width_integral_fea", "MPM 1 mm by its circle vs the 0.5 mm FEA, trapezoid over the 13 front nodes", fine_line_w, fine_raw_w);
+    out.measure("fine_domain_path", &format!("MPM 1 mm, mid-width J over q radii {DOMAIN_RADII:?} × 2 mm"), fine_spread, 0.0);
+    // The 2 mm run's errors against the 1 mm FEA, each refined once against the 0.5 mm FEA.
+    let fine_w_err = (fine_line_w / fine_raw_w - 1.0).abs();
+    let coarse_w_err = (mpm_w / fea_w - 1.0).abs();
+    out.measure("profile_fea_refines", &format!("circle, interior nodes: 1 mm {:.2} % / 2 mm {:.2} %", 100.0 * fine_line_interior, 100.0 * interior), fine_line_interior / interior, f64::NAN);
+    out.measure("width_integral_fea_refines", &format!("circle: 1 mm {:+.2} % / 2 mm {:+.2} %", 100.0 * (fine_line_w / fine_raw_w - 1.0), 100.0 * (mpm_w / fea_w - 1.0)), fine_w_err / coarse_w_err, f64::NAN);
+    out.measure("domain_profile_fea_refines", &format!("domain, faces included: 1 mm {:.2} % / 2 mm {:.2} %", 100.0 * fine_worst, 100.0 * dom_worst), fine_worst / dom_worst, f64::NAN);
+    out.measure("domain_path_refines", &format!("mid-width spread over radii: 1 mm {:.2} % / 2 mm {:.2} %", 100.0 * fine_spread, 100.0 * spread), fine_spread / spread, f64::NAN);
     let half_at49 = |z: f64| psi_average(&r.fea_fine.front.iter().map(|f| (f.0, f.2)).collect::<Vec<_>>(), z);
     out.note(format!(
         "Resolved pair (fine_* checks): the MPM on 1 mm cells (crack end x = {FINE_END}, mid-cell; {} particles × {} steps in {:.0} s, kinetic \
          energy {:.1e} of the strain energy at the end) by the domain integral with q and ψ in mm as above, against the hex8 FEA on 0.5 mm \
          cells with its front at x = {FINE_END} ({} equations, {:.0} s), ψ-averaged: mid-width {:.5e} / {:.5e} ({:+.2} %), width integral \
          {fine_mpm_w:.5e} / {fine_fea_w:.5e} N ({:+.2} %). Profile (z: MPM 1 mm / FEA 0.5 mm − 1): {}. For scale, the 2 mm MPM's near-face \
-         excess over the 1 mm FEA at x = 49 (domain_profile_fea) is at z = 1: {:+.2} %.",
+         excess over the 1 mm FEA at x = 49 is at z = 1: {:+.2} %.",
         fine.particles,
         fine.steps,
         fine.mpm_seconds,
@@ -377,7 +416,7 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
         r.fea50.front.iter().find(|f| f.0 == 0.5 * DCB3_B).map_or(f64::NAN, |f| f.2) / g_beam(a + H / 2.0, r.e / (1.0 - r.nu * r.nu)),
     ));
     out.note(format!(
-        "Width integrals (trapezoid over the front nodes; checked as width_integral_fea): MPM ∫J dz = {mpm_w:.5e} N, FEA at x = 49 {fea_w:.5e} N \
+        "Width integrals (trapezoid over the front nodes; refined in width_integral_fea_refines): MPM ∫J dz = {mpm_w:.5e} N, FEA at x = 49 {fea_w:.5e} N \
          ({:+.2} %). The MPM's line-only circle leaves out the x₃-derivative term of the 3D J (−∫_A ∂(σ₃ⱼ ∂u_j/∂x₁)/∂x₃ dA, \
          crate::fracture::front3), which is not small where J varies across the width — within a cell or two of the free faces — \
          while the FEA's EDI holds it: the faces are where the two profiles part.",
