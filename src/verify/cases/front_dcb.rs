@@ -50,6 +50,19 @@ pub const DOMAIN_RADII: [f64; 3] = [3.0, 4.0, 5.0];
 /// FEA's J(z) is averaged with the same ψ for the comparison ([`psi_average`]).
 pub const DOMAIN_ALONG: f64 = 4.0;
 
+/// The domain integral's shape with q's outer radius `rc` cells of 2 mm (ramp one such
+/// cell, ψ of DOMAIN_ALONG): the same domain in mm on either grid.
+fn domain(rc: f64) -> DomainShape {
+    DomainShape { inner: (rc - 1.0) * H, outer: rc * H, along: DOMAIN_ALONG }
+}
+
+/// The spread (max − min)/J of the mid-width J over fronts evaluated with each of
+/// DOMAIN_RADII, relative to the one at DOMAIN_RADII[1].
+fn mid_spread(fronts: &[Vec<FrontResult>]) -> f64 {
+    let mids: Vec<f64> = fronts.iter().map(|f| near(f, 0.5 * DCB3_B).map_or(f64::NAN, |f| f.j1)).collect();
+    (mids.iter().copied().fold(f64::NEG_INFINITY, f64::max) - mids.iter().copied().fold(f64::INFINITY, f64::min)) / mids[1]
+}
+
 /// The weighted average ∫ψ(s)J(z + s) ds / ∫ψ ds of a profile given at every 1 mm (the
 /// 1 mm FEA's front nodes), ψ = cos²(πs/2L), L = DOMAIN_ALONG, cut at the faces, by the
 /// trapezoidal rule on the nodes: the MPM domain integral's average of the same G(z).
@@ -82,12 +95,17 @@ pub fn scene(da: i32) -> SceneFile {
 /// x = 49 (a node plane at 1 mm) and the loads on the two particle layers x ≤ 1 mm, whose
 /// load line x = 0.5 is the 2 mm MPM's (one layer x ≤ 1).
 pub fn scene_fine() -> SceneFile {
-    SceneFile::new("fea_dcb_3d.toml")
-        .set("grid.cell", "[1.0, 1.0, 1.0]")
-        .set("loads.0.particles", "{ box = { min = [0.0, 12.0, 0.0], max = [1.0, 24.0, 12.0] } }")
-        .set("loads.1.particles", "{ box = { min = [0.0, 0.0, 0.0], max = [1.0, 12.0, 12.0] } }")
+    one_mm(SceneFile::new("fea_dcb_3d.toml"))
         .set("cracks.0.surface.polygon.points", "[[-2.0, 12.0, -2.0], [-2.0, 12.0, 14.0], [48.5, 12.0, 14.0], [48.5, 12.0, -2.0]]")
         .set("cracks.0.edge", "0.5")
+}
+
+/// The file on 1 mm cells, loaded on the two particle layers x ≤ 1 (load line x = 0.5, the
+/// 2 mm scene's).
+fn one_mm(f: SceneFile) -> SceneFile {
+    f.set("grid.cell", "[1.0, 1.0, 1.0]")
+        .set("loads.0.particles", "{ box = { min = [0.0, 12.0, 0.0], max = [1.0, 24.0, 12.0] } }")
+        .set("loads.1.particles", "{ box = { min = [0.0, 0.0, 0.0], max = [1.0, 12.0, 12.0] } }")
 }
 
 /// The resolved pair (`fine_*` checks): the MPM on 1 mm cells, its crack end mid-cell at
@@ -96,10 +114,7 @@ pub fn scene_fine() -> SceneFile {
 /// checks (q = 1 within 6 mm, 0 from 8 mm; ψ of DOMAIN_ALONG).
 pub const FINE_END: f64 = 49.5;
 pub fn scene_mpm_fine() -> SceneFile {
-    scene(0)
-        .set("grid.cell", "[1.0, 1.0, 1.0]")
-        .set("loads.0.particles", "{ box = { min = [0.0, 12.0, 0.0], max = [1.0, 24.0, 12.0] } }")
-        .set("loads.1.particles", "{ box = { min = [0.0, 0.0, 0.0], max = [1.0, 12.0, 12.0] } }")
+    one_mm(scene(0))
         .set("cracks.0.surface.polygon.points", "[[-2.0, 12.0, -1.0], [-2.0, 12.0, 13.0], [49.5, 12.0, 13.0], [49.5, 12.0, -1.0]]")
 }
 
@@ -137,7 +152,7 @@ pub fn dcb_fine() -> anyhow::Result<DcbFine> {
     let mut sim = s.build()?;
     let req = s.front_requests(&sim.cracks)?.remove(0).context("the DCB asks for J")?;
     sim.run_until(s.solver.end_time, |_| {})?;
-    let radii: Vec<Vec<FrontResult>> = DOMAIN_RADII.iter().map(|&rc| sim.front_fracture(0, &FrontRequest { domain: Some(DomainShape { inner: (rc - 1.0) * H, outer: rc * H, along: DOMAIN_ALONG }), ..req.clone() })).collect();
+    let radii: Vec<Vec<FrontResult>> = DOMAIN_RADII.iter().map(|&rc| sim.front_fracture(0, &FrontRequest { domain: Some(domain(rc)), ..req.clone() })).collect();
     let front = radii[1].clone();
     let line = sim.front_fracture(0, &req);
     let mpm_seconds = t.elapsed().as_secs_f64();
@@ -220,7 +235,7 @@ pub fn dcb() -> anyhow::Result<DcbRun> {
     let mpm_seconds = t.elapsed().as_secs_f64();
     let front = sim.front_fracture(0, &req);
     let front_wide = sim.front_fracture(0, &FrontRequest { radius: 1.5 * req.radius, ..req.clone() });
-    let front_domain = DOMAIN_RADII.iter().map(|&rc| sim.front_fracture(0, &FrontRequest { domain: Some(DomainShape { inner: (rc - 1.0) * H, outer: rc * H, along: DOMAIN_ALONG }), ..req.clone() })).collect();
+    let front_domain = DOMAIN_RADII.iter().map(|&rc| sim.front_fracture(0, &FrontRequest { domain: Some(domain(rc)), ..req.clone() })).collect();
     let en = sim.energies();
     let t = Instant::now();
     let fea50 = dcb3_solve(&scene(0), H)?;
@@ -288,7 +303,7 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let (dom_w, fine_w) = (width_integral(&dom_pts), width_integral(&fine_avg));
     out.measure("domain_width_integral_fea", "trapezoid over the 13 front nodes, vs the 1 mm FEA", dom_w, fine_w);
     let mids: Vec<f64> = r.front_domain.iter().map(|f| near(f, 0.5 * DCB3_B).map_or(f64::NAN, |f| f.j1)).collect();
-    let spread = (mids.iter().copied().fold(f64::NEG_INFINITY, f64::max) - mids.iter().copied().fold(f64::INFINITY, f64::min)) / dom_mid;
+    let spread = mid_spread(&r.front_domain);
     out.note(format!(
         "Equivalent domain integral over the particles (q = 1 within r − 1 cells of the front line, 0 from r; ψ = cos²(πs/2L), L = {DOMAIN_ALONG} mm \
          along the front): mid-width J₁ at r = {DOMAIN_RADII:?} cells: {}; width integral {dom_w:.5e} N. FEA on 1 mm cells, front at \
@@ -325,7 +340,7 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let fine_line_w = width_integral(&line_rows.iter().map(|x| (x.0, x.1)).collect::<Vec<_>>());
     let fine_raw_w = width_integral(&line_rows.iter().map(|x| (x.0, x.2)).collect::<Vec<_>>());
     let fine_mids: Vec<f64> = fine.radii.iter().map(|f| near(f, 0.5 * DCB3_B).map_or(f64::NAN, |f| f.j1)).collect();
-    let fine_spread = (fine_mids.iter().copied().fold(f64::NEG_INFINITY, f64::max) - fine_mids.iter().copied().fold(f64::INFINITY, f64::min)) / fine_mids[1];
+    let fine_spread = mid_spread(&fine.radii);
     out.note(format!(
         "The 1 mm MPM by its circle (the 2 mm run's contour in cells) against the 0.5 mm FEA's J at the same nodes: interior nodes z = 1 … 11 \
          worst {:.2} % (2 mm against its FEA: {:.2} %); width integral {fine_line_w:.5e} / {fine_raw_w:.5e} N ({:+.2} %; 2 mm: {:+.2} %; the 0.5 mm FEA's own ∫J dz over its {} nodes {:.5e} N). \

@@ -186,15 +186,17 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     let t_start = t0 + 7.0 * H / cs;
     let k3_of = |j: f64| (e * j.max(0.0) / (1.0 + nu)).sqrt();
     let in_window = |x: &&FrontSample| x.t >= t_start && x.t <= t_end;
-    // Largest |K_III/exact − 1| over the window and its time (NaN if the window holds no
-    // sample or any is not finite).
-    let worst_of = |s: &[FrontSample]| {
-        let errs: Vec<(f64, f64)> = s.iter().filter(in_window).map(|x| ((k3_of(x.j1) / k3_sh(cs, x.t, t0) - 1.0).abs(), x.t)).collect();
+    // Largest |K_III/reference − 1| for t from `start` to the window's end, and its time
+    // (NaN if that holds no sample or any is not finite).
+    let worst_from = |s: &[FrontSample], start: f64, reference: &dyn Fn(f64) -> f64| {
+        let errs: Vec<(f64, f64)> = s.iter().filter(|x| x.t >= start && x.t <= t_end).map(|x| ((k3_of(x.j1) / reference(x.t) - 1.0).abs(), x.t)).collect();
         if errs.is_empty() || errs.iter().any(|e| !e.0.is_finite()) {
             return (f64::NAN, f64::NAN);
         }
         errs.into_iter().fold((0.0f64, 0.0), |a, b| if b.0 > a.0 { b } else { a })
     };
+    let step = |t: f64| k3_sh(cs, t, t0);
+    let worst_of = |s: &[FrontSample]| worst_from(s, t_start, &step);
     // Largest max(|K_I|, |K_II|)/|K_III| of the COD split over the window, and the same
     // divided by the sliding one cell behind the front in cells |δ₃|/h (NaN if the window
     // holds no sample, or a K or δ₃ is not finite or K_III is zero: f64::max drops NaN).
@@ -239,15 +241,7 @@ pub fn run(_variant: Variant) -> anyhow::Result<CaseOutput> {
     // The same plate with the shear ramped over SH_RAMP: the window starts when the ramp
     // has fully arrived at the crack plane.
     let (r, nr, stepsr, secr) = sample_front(&SceneFile::new("front_sh_ramp_3d.toml"), 3.7, B)?;
-    let (mut worst_r, mut worst_rt) = (0.0f64, 0.0);
-    for x in &r {
-        if x.t >= t0 + SH_RAMP && x.t <= t_end {
-            let d = (k3_of(x.j1) / k3_sh_ramp(cs, x.t, t0, SH_RAMP) - 1.0).abs();
-            if d > worst_r {
-                (worst_r, worst_rt) = (d, x.t);
-            }
-        }
-    }
+    let (worst_r, worst_rt) = worst_from(&r, t0 + SH_RAMP, &|t| k3_sh_ramp(cs, t, t0, SH_RAMP));
     out.measure("mode_iii_sh_ramp", &format!("{label}, T = {SH_RAMP} µs, worst at {worst_rt:.3} µs"), worst_r, 0.0);
     out.measure("mode_iii_mixity", &format!("ratio {mix_ratio:.3} ({label}), {mix_ratio_f:.3} (h = {H_FINE} mm)"), if mix_ratio.is_nan() || mix_ratio_f.is_nan() { f64::NAN } else { mix_ratio.max(mix_ratio_f) }, f64::NAN);
     out.measure("mode_iii_mixity_thin", &format!("{label}, one cell thick"), mix_thin, 0.0);
